@@ -1,0 +1,212 @@
+// Unit tests of the beam element kernel: exact tangent, invariance, and the
+// uniform states that the kinematics must reproduce exactly.
+#include "fd.h"
+#include <textile/beam/beam_element.h>
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <numbers>
+#include <random>
+
+using namespace textile;
+using namespace textile::beam;
+
+namespace
+{
+/// Reference data of an element: straight along x, or on a circle arc
+/// (curvature kappa) in the xy-plane. Section vectors G1 in-plane normal,
+/// G2 = z.
+std::vector<double> reference(int nn, double length, double kappa)
+{
+  std::vector<double> X(9 * nn);
+  for (int a = 0; a < nn; ++a)
+  {
+    const double s = length * a / (nn - 1);
+    Eigen::Vector3d x0, t;
+    if (kappa == 0)
+    {
+      x0 << s, 0, 0;
+      t << 1, 0, 0;
+    }
+    else
+    {
+      x0 << std::sin(kappa * s) / kappa, (1 - std::cos(kappa * s)) / kappa, 0;
+      t << std::cos(kappa * s), std::sin(kappa * s), 0;
+    }
+    const Eigen::Vector3d g2(0, 0, 1), g1 = g2.cross(t);
+    for (int k = 0; k < 3; ++k)
+    {
+      X[9 * a + k] = x0(k);
+      X[9 * a + 3 + k] = g1(k);
+      X[9 * a + 6 + k] = g2(k);
+    }
+  }
+  return X;
+}
+
+struct Case
+{
+  int num_nodes;
+  int axial_points;
+  bool cure;
+  double kappa;
+};
+
+std::vector<double> residual(const ElementRule& rule, const Material& m,
+                             const SectionQuadrature& s, const std::vector<double>& X,
+                             const std::vector<double>& x)
+{
+  std::vector<double> r(X.size(), 0.0);
+  element_residual_tangent(rule, m, s, X, x, r, {});
+  return r;
+}
+} // namespace
+
+class BeamTangent : public ::testing::TestWithParam<Case>
+{
+};
+
+TEST_P(BeamTangent, MatchesCentralFiniteDifferences)
+{
+  const Case c = GetParam();
+  const ElementRule rule{c.num_nodes, gauss_legendre(c.axial_points), c.cure};
+  const Material mat{2.0e3, 0.3};
+  const auto sec = disk_quadrature(0.05, 4);
+  const auto X = reference(c.num_nodes, 0.4, c.kappa);
+  std::mt19937 gen(11 + c.num_nodes);
+  std::uniform_real_distribution<double> U(-1, 1);
+  for (int trial = 0; trial < 3; ++trial)
+  {
+    // random finite deformation: stretch, bend, twist, section distortion
+    std::vector<double> x = X;
+    for (auto& v : x)
+      v += 0.08 * U(gen);
+    const std::size_t n = x.size();
+    std::vector<double> r(n, 0.0), K(n * n, 0.0);
+    element_residual_tangent(rule, mat, sec, X, x, r, K);
+    auto f = [&](const std::vector<double>& y) { return residual(rule, mat, sec, X, y); };
+    const auto Kfd = test::fd_jacobian(f, x, 1e-6);
+    // central differences: truncation O(h^2 * r''') ~ 1e-10 relative
+    EXPECT_LT(test::relative_error(K, Kfd), 1e-6);
+    // symmetric: the element is hyperelastic
+    double asym = 0, norm = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = 0; j < n; ++j)
+      {
+        asym = std::max(asym, std::abs(K[i * n + j] - K[j * n + i]));
+        norm = std::max(norm, std::abs(K[i * n + j]));
+      }
+    EXPECT_LT(asym, 1e-12 * norm); // round-off only
+    // residual is the gradient of the energy
+    auto energy = [&](const std::vector<double>& y)
+    { return std::vector<double>{element_residual_tangent(rule, mat, sec, X, y, {}, {})}; };
+    const auto g = test::fd_jacobian(energy, x, 1e-6);
+    EXPECT_LT(test::relative_error(r, g), 1e-6);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(ElementTypes, BeamTangent,
+                         ::testing::Values(Case{2, 1, true, 0.0}, Case{2, 2, true, 0.0},
+                                           Case{3, 2, true, 0.0}, Case{3, 3, true, 0.0},
+                                           Case{3, 3, false, 0.0}, Case{3, 2, true, 2.0},
+                                           Case{2, 2, false, 2.0}, Case{3, 3, true, 2.0}));
+
+TEST(BeamElement, RigidMotionIsStressFree)
+{
+  for (int nn : {2, 3})
+    for (double kappa : {0.0, 2.0})
+    {
+      const ElementRule rule{nn, gauss_legendre(3), true};
+      const Material mat{1.0, 0.3};
+      const auto sec = disk_quadrature(0.05, 4);
+      const auto X = reference(nn, 0.4, kappa);
+      const Eigen::Matrix3d R
+          = Eigen::AngleAxisd(1.1, Eigen::Vector3d(0.3, -1, 2).normalized()).toRotationMatrix();
+      std::vector<double> x(X.size());
+      for (int a = 0; a < nn; ++a)
+      {
+        const Eigen::Map<const Eigen::Vector3d> X0(&X[9 * a]), G1(&X[9 * a + 3]),
+            G2(&X[9 * a + 6]);
+        Eigen::Map<Eigen::Vector3d> x0(&x[9 * a]), g1(&x[9 * a + 3]), g2(&x[9 * a + 6]);
+        x0 = R * X0 + Eigen::Vector3d(1, 2, 3);
+        g1 = R * G1;
+        g2 = R * G2;
+      }
+      std::vector<double> r(X.size(), 0.0);
+      const double e = element_residual_tangent(rule, mat, sec, X, x, r, {});
+      EXPECT_NEAR(e, 0.0, 1e-16); // exact invariance, round-off only
+      for (double v : r)
+        EXPECT_NEAR(v, 0.0, 1e-13);
+    }
+}
+
+TEST(BeamElement, UniaxialTensionIsExact)
+{
+  // REFERENCES.md 1: N = E A lambda (lambda^2 - 1)/2, |g| = sqrt(1 - nu (lambda^2 - 1))
+  for (int nn : {2, 3})
+    for (double lambda : {1.01, 1.10})
+    {
+      const double E = 3.0, nu = 0.3, R = 0.1, L = 0.7;
+      const ElementRule rule{nn, gauss_legendre(2), true};
+      const Material mat{E, nu};
+      const auto sec = disk_quadrature(R, 4);
+      const auto X = reference(nn, L, 0.0);
+      const double gl = std::sqrt(1 - nu * (lambda * lambda - 1));
+      std::vector<double> x = X;
+      for (int a = 0; a < nn; ++a)
+      {
+        x[9 * a] *= lambda;
+        for (int k = 3; k < 9; ++k)
+          x[9 * a + k] *= gl;
+      }
+      std::vector<double> r(X.size(), 0.0);
+      element_residual_tangent(rule, mat, sec, X, x, r, {});
+      const double A = std::numbers::pi * R * R;
+      const double N = E * A * lambda * (lambda * lambda - 1) / 2;
+      // axial end force on the last node, nothing on the section vectors
+      EXPECT_NEAR(r[9 * (nn - 1)], N, 1e-12 * N);
+      EXPECT_NEAR(r[0], -N, 1e-12 * N);
+      for (int a = 0; a < nn; ++a)
+        for (int k = 3; k < 9; ++k)
+          EXPECT_NEAR(r[9 * a + k], 0.0, 1e-13 * N);
+    }
+}
+
+TEST(BeamElement, OnlyRigidZeroEnergyModes)
+{
+  // a free element must have exactly the 6 rigid-body zero-energy modes
+  for (auto [nn, ng] : {std::pair{2, 1}, std::pair{2, 2}, std::pair{3, 2}, std::pair{3, 3}})
+  {
+    const ElementRule rule{nn, gauss_legendre(ng), true};
+    const Material mat{1.0, 0.3};
+    const auto sec = disk_quadrature(0.02, 4);
+    const auto X = reference(nn, 0.1, 0.0);
+    const std::size_t n = X.size();
+    std::vector<double> K(n * n, 0.0);
+    element_residual_tangent(rule, mat, sec, X, X, {}, K);
+    const Eigen::Map<Eigen::MatrixXd> Km(K.data(), n, n);
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Km);
+    const auto ev = es.eigenvalues();
+    const double tol = 1e-10 * ev.maxCoeff();
+    int zeros = 0;
+    for (int i = 0; i < ev.size(); ++i)
+      zeros += std::abs(ev(i)) < tol;
+    // even the one-point linear element: the section vectors' values and
+    // slopes are both sampled, so no hourglass mode appears
+    EXPECT_EQ(zeros, 6) << "num_nodes=" << nn << " axial_points=" << ng;
+  }
+}
+
+TEST(BeamElement, RejectsDegenerateReference)
+{
+  const ElementRule rule{2, gauss_legendre(2), true};
+  const Material mat{1.0, 0.3};
+  const auto sec = disk_quadrature(0.02, 4);
+  auto X = reference(2, 0.1, 0.0);
+  for (int k = 3; k < 6; ++k) // g1 along the tangent
+    X[k] = X[9 + k] = (k == 3);
+  std::vector<double> r(18, 0.0);
+  EXPECT_THROW(element_residual_tangent(rule, mat, sec, X, X, r, {}), std::runtime_error);
+}

@@ -1,0 +1,117 @@
+#include "beam_assembler.h"
+#include "petsc_insert.h"
+
+#include <stdexcept>
+
+namespace textile::assembly
+{
+BeamAssembler::BeamAssembler(beam::ElementRule rule, std::vector<std::int32_t> connectivity,
+                             std::vector<std::int32_t> element_group,
+                             std::vector<beam::Material> materials,
+                             std::vector<beam::SectionQuadrature> sections, std::vector<double> X)
+    : _rule(std::move(rule)), _conn(std::move(connectivity)), _group(std::move(element_group)),
+      _materials(std::move(materials)), _sections(std::move(sections)), _X(std::move(X))
+{
+  const std::size_t nn = _rule.num_nodes;
+  if (nn != 2 and nn != 3)
+    throw std::invalid_argument("BeamAssembler: num_nodes must be 2 or 3");
+  if (_conn.size() != nn * _group.size())
+    throw std::invalid_argument("BeamAssembler: connectivity size != num_elements x num_nodes");
+  if (_materials.size() != _sections.size())
+    throw std::invalid_argument("BeamAssembler: one section per material group expected");
+  if (_X.size() % beam::dofs_per_node != 0)
+    throw std::invalid_argument("BeamAssembler: reference data must hold 9 values per node");
+  const std::int32_t num_local_nodes = _X.size() / beam::dofs_per_node;
+  for (auto g : _group)
+    if (g < 0 or g >= static_cast<std::int32_t>(_materials.size()))
+      throw std::invalid_argument("BeamAssembler: element group out of range");
+  for (auto i : _conn)
+    if (i < 0 or i >= num_local_nodes)
+      throw std::invalid_argument("BeamAssembler: node index out of range");
+  for (auto& m : _materials)
+    beam::validate(m);
+}
+
+void BeamAssembler::gather(std::size_t e, std::span<const double> u, std::span<double> Xe,
+                           std::span<double> xe) const
+{
+  const int nn = _rule.num_nodes;
+  for (int a = 0; a < nn; ++a)
+  {
+    const std::size_t node = _conn[e * nn + a];
+    for (int k = 0; k < beam::dofs_per_node; ++k)
+    {
+      Xe[9 * a + k] = _X[9 * node + k];
+      xe[9 * a + k] = _X[9 * node + k] + u[9 * node + k];
+    }
+  }
+}
+
+double BeamAssembler::assemble_vector(std::span<const double> u, std::span<double> b) const
+{
+  if (u.size() != _X.size() or b.size() != _X.size())
+    throw std::invalid_argument("BeamAssembler::assemble_vector: wrong vector size");
+  const int nn = _rule.num_nodes, nd = 9 * nn;
+  std::vector<double> Xe(nd), xe(nd), re(nd);
+  double energy = 0;
+  for (std::size_t e = 0; e < _group.size(); ++e)
+  {
+    gather(e, u, Xe, xe);
+    std::fill(re.begin(), re.end(), 0.0);
+    energy += beam::element_residual_tangent(_rule, _materials[_group[e]], _sections[_group[e]],
+                                             Xe, xe, re, {});
+    for (int a = 0; a < nn; ++a)
+    {
+      const std::size_t node = _conn[e * nn + a];
+      for (int k = 0; k < 9; ++k)
+        b[9 * node + k] += re[9 * a + k];
+    }
+  }
+  return energy;
+}
+
+void BeamAssembler::assemble_matrix(Mat A, std::span<const double> u,
+                                    std::span<const std::int32_t> dofs) const
+{
+  if (u.size() != _X.size() or dofs.size() != _X.size())
+    throw std::invalid_argument("BeamAssembler::assemble_matrix: wrong array size");
+  const int nn = _rule.num_nodes, nd = 9 * nn;
+  std::vector<double> Xe(nd), xe(nd), Ke(nd * nd);
+  std::vector<std::int32_t> idx(nd);
+  for (std::size_t e = 0; e < _group.size(); ++e)
+  {
+    gather(e, u, Xe, xe);
+    std::fill(Ke.begin(), Ke.end(), 0.0);
+    beam::element_residual_tangent(_rule, _materials[_group[e]], _sections[_group[e]], Xe, xe, {},
+                                   Ke);
+    for (int a = 0; a < nn; ++a)
+    {
+      const std::size_t node = _conn[e * nn + a];
+      for (int k = 0; k < 9; ++k)
+        idx[9 * a + k] = dofs[9 * node + k];
+    }
+    add_block(A, idx, idx, Ke);
+  }
+}
+
+std::vector<double> BeamAssembler::fields(std::span<const double> u) const
+{
+  if (u.size() != _X.size())
+    throw std::invalid_argument("BeamAssembler::fields: wrong vector size");
+  const int nd = 9 * _rule.num_nodes;
+  std::vector<double> Xe(nd), xe(nd), out(12 * _group.size());
+  for (std::size_t e = 0; e < _group.size(); ++e)
+  {
+    gather(e, u, Xe, xe);
+    const beam::ElementFields f
+        = beam::element_fields(_rule, _materials[_group[e]], _sections[_group[e]], Xe, xe);
+    for (int v = 0; v < 6; ++v)
+    {
+      out[12 * e + v] = f.strain(v);
+      out[12 * e + 6 + v] = f.stress(v);
+    }
+  }
+  return out;
+}
+
+} // namespace textile::assembly

@@ -1,0 +1,59 @@
+// Assembly of the beam elasticity of all fibre elements held by this rank.
+#pragma once
+
+#include "../beam/beam_element.h"
+
+#include <petscmat.h>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace textile::assembly
+{
+
+/// Elements of one MPI rank, with their reference geometry.
+///
+/// Nodes are numbered locally (owned then ghost, as in the beam field's
+/// index map); each holds 9 unknowns [x0, g1, g2]. The unknowns passed in
+/// are displacements u = x - X.
+class BeamAssembler
+{
+public:
+  /// @param rule          element type and axial quadrature (all elements)
+  /// @param connectivity  local node indices, num_elements x num_nodes
+  /// @param element_group index into materials/sections per element
+  /// @param materials     one per group
+  /// @param sections      one per group (radius, quadrature)
+  /// @param X             reference unknowns, 9 per local node
+  BeamAssembler(beam::ElementRule rule, std::vector<std::int32_t> connectivity,
+                std::vector<std::int32_t> element_group, std::vector<beam::Material> materials,
+                std::vector<beam::SectionQuadrature> sections, std::vector<double> X);
+
+  std::size_t num_elements() const { return _group.size(); }
+  int num_nodes_per_element() const { return _rule.num_nodes; }
+
+  /// b += internal force (9 per local node); returns the stored energy of
+  /// this rank's elements.
+  double assemble_vector(std::span<const double> u, std::span<double> b) const;
+
+  /// A += tangent. dofs[9*i + k] is the matrix-local index of unknown k of
+  /// local node i, or -1 where the dof is constrained.
+  void assemble_matrix(Mat A, std::span<const double> u, std::span<const std::int32_t> dofs) const;
+
+  /// Element-averaged section strain and stress, 12 values per element
+  /// (Voigt strain then stress).
+  std::vector<double> fields(std::span<const double> u) const;
+
+private:
+  void gather(std::size_t e, std::span<const double> u, std::span<double> Xe,
+              std::span<double> xe) const;
+
+  beam::ElementRule _rule;
+  std::vector<std::int32_t> _conn, _group;
+  std::vector<beam::Material> _materials;
+  std::vector<beam::SectionQuadrature> _sections;
+  std::vector<double> _X;
+};
+
+} // namespace textile::assembly

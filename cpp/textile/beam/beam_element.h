@@ -1,0 +1,78 @@
+// Finite-strain beam element with deformable sections (Durville kinematics).
+//
+// A particle at section coordinates (xi1, xi2) and abscissa xi3 sits at
+//     x = x0(xi3) + xi1 g1(xi3) + xi2 g2(xi3),
+// with x0 the centroid line and g1, g2 the section vectors. Each node has 9
+// unknowns, ordered [x0 (3), g1 (3), g2 (3)]. x0, g1, g2 are interpolated
+// with Lagrange polynomials of degree num_nodes-1 (2: linear, 3: quadratic
+// with the middle node at xi = 0). The full Green-Lagrange strain
+// E = 1/2 (F^T F - I), F = dx/dX, is evaluated at axial Gauss points times
+// section points and expressed in the local frame (e1, e2, e3) of the
+// reference section (e3 the reference tangent).
+//
+// Poisson locking cure (METHOD.md section 1): at each axial point the strain
+// is split into its section average Ebar and the fluctuation dE = E - Ebar,
+// and the stored energy density is
+//     W = 1/2 Ebar : C : Ebar + 1/2 E (dE33)^2 + 2 mu (dE13^2 + dE23^2).
+// Because g1, g2 only depend on xi3, the in-plane strains E_ab are uniform
+// over a section: the linear kinematics cannot produce the transverse
+// strains -nu E33 that vary across the section in bending, and the full 3D
+// law would then see (lambda + 2 mu) instead of E. Giving the fluctuation
+// the uniaxial (zero transverse stress) law recovers E I in bending while
+// uniform states (tension, section deformation) keep the exact 3D law.
+// The split is linear in the strains at the section points, so the tangent
+// stays exact and symmetric. Chosen over enhanced assumed strains because
+// it needs no extra element unknowns or static condensation.
+//
+// Units: any consistent set (e.g. N, m, Pa). Internal force r = dPi/dx,
+// the derivative of the stored energy with respect to the nodal unknowns
+// (positive in the direction the energy grows); tangent K = dr/dx.
+#pragma once
+
+#include "material.h"
+#include "quadrature.h"
+
+#include <span>
+
+namespace textile::beam
+{
+
+/// Unknowns per node: centroid x0, section vectors g1, g2.
+constexpr int dofs_per_node = 9;
+
+/// Integration choices for one element type.
+struct ElementRule
+{
+  int num_nodes = 3;          ///< 2 (linear) or 3 (quadratic)
+  GaussLegendre axial;        ///< points along the element, on [-1, 1]
+  bool poisson_cure = true;   ///< section split law (false: plain 3D SVK)
+};
+
+/// Stored energy, internal force and tangent of one element.
+///
+/// @param rule  Element type and axial quadrature.
+/// @param mat   Fibre material.
+/// @param section  Section quadrature (carries the radius).
+/// @param X     Reference nodal unknowns, 9*num_nodes values.
+/// @param x     Current nodal unknowns, same layout.
+/// @param r     If not empty: += internal force (9*num_nodes).
+/// @param K     If not empty: += tangent, row-major (9n x 9n).
+/// @return The element's stored energy.
+double element_residual_tangent(const ElementRule& rule, const Material& mat,
+                                const SectionQuadrature& section,
+                                std::span<const double> X, std::span<const double> x,
+                                std::span<double> r, std::span<double> K);
+
+/// Section-averaged Green-Lagrange strain and second Piola-Kirchhoff stress
+/// (Voigt, local frame), averaged over the element's axial points.
+struct ElementFields
+{
+  Voigt strain = Voigt::Zero();
+  Voigt stress = Voigt::Zero();
+};
+
+ElementFields element_fields(const ElementRule& rule, const Material& mat,
+                             const SectionQuadrature& section,
+                             std::span<const double> X, std::span<const double> x);
+
+} // namespace textile::beam

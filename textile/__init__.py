@@ -1,0 +1,26 @@
+"""textile: fibre-scale simulation of woven fabrics and textile composites.
+
+Fibres are finite-strain beams with deformable sections (9 unknowns a
+node); every physics term is an *effect* assembled into one monolithic
+PETSc SNES solve. See README.md ("Usage") and ``demos/``.
+"""
+import sys as _sys
+
+# petsc4py must be initialized with the command line before dolfinx (and
+# before the compiled module makes PETSc calls), or -snes_* options are lost.
+import mpi4py  # noqa: F401
+import petsc4py
+
+petsc4py.init(_sys.argv)  # a no-op if PETSc is already initialized
+from petsc4py import PETSc  # noqa: E402,F401
+
+from . import _cpp  # noqa: E402
+from .element import BeamElement  # noqa: E402
+from .fibre import Fibre, arc_fibre, straight_fibre  # noqa: E402
+from .material import Material  # noqa: E402
+from .model import Model  # noqa: E402
+from .solver import ConvergenceError, Solver, SolverOptions  # noqa: E402
+
+__all__ = ["BeamElement", "Fibre", "Material", "Model", "Solver", "SolverOptions",
+           "ConvergenceError", "straight_fibre", "arc_fibre", "PETSc", "_cpp"]
+__version__ = "0.1.0"

@@ -1,0 +1,69 @@
+"""The interface every physics term implements.
+
+Sign convention (whole project): the residual is internal minus external
+generalized force, r(u) = dPi_int/du - f_ext, so equilibrium is r = 0 and
+the tangent is dr/du. Unknowns are displacements u = x - X of every field.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from petsc4py import PETSc
+
+
+@dataclass
+class State:
+    """What an effect sees during one evaluation.
+
+    Attributes
+    ----------
+    load_factor:
+        Current load factor t (external loads and prescribed values scale
+        with it).
+    u:
+        Field name -> local displacement array (owned + ghost, unrolled).
+    dofs:
+        Field name -> stacked local index of each local unrolled dof in the
+        global matrix, -1 where the dof is constrained (PETSc skips it).
+    """
+
+    load_factor: float
+    u: dict[str, np.ndarray] = field(default_factory=dict)
+    dofs: dict[str, np.ndarray] = field(default_factory=dict)
+
+
+class Effect:
+    """A physics term: residual and tangent contributions to the global system.
+
+    Subclasses override what they need. ``fields`` names the fields whose
+    blocks the effect writes into.
+    """
+
+    #: Field names the effect couples (rows and columns).
+    fields: tuple[str, ...] = ()
+
+    def add_fields(self, model) -> list:
+        """New fields this effect brings (e.g. the matrix's function space)."""
+        return []
+
+    def setup(self, model) -> None:
+        """Called once the layout exists, before any assembly."""
+
+    def add_sparsity(self, sparsity) -> None:
+        """Insert the blocks this effect will fill."""
+
+    def constraints(self, load_factor: float) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """Field name -> (local unrolled dofs, prescribed values) the effect
+        constrains (e.g. Dirichlet conditions of its own field)."""
+        return {}
+
+    def residual(self, state: State, b: dict[str, np.ndarray]) -> None:
+        """Add the residual into the local arrays ``b[field]`` (owned+ghost)."""
+
+    def jacobian(self, state: State, A: PETSc.Mat) -> None:
+        """Add the tangent into A using ``state.dofs`` (local numbering)."""
+
+    def statistics(self) -> dict:
+        """Scalars worth logging per step (merged into results.json)."""
+        return {}

@@ -1,0 +1,43 @@
+"""Elastic energy of all fibre elements (Durville beams with deformable sections)."""
+from __future__ import annotations
+
+import numpy as np
+
+from .. import _cpp
+from .base import Effect, State
+
+
+class BeamElasticity(Effect):
+    """Internal forces and exact tangent of the fibres' beam elements.
+
+    The element kernel and its assembly loop are in C++
+    (``cpp/textile/beam/beam_element.*``, ``cpp/textile/assembly/``).
+    """
+
+    fields = ("beam",)
+
+    def setup(self, model) -> None:
+        mesh, el = model.mesh, model.element
+        rule = _cpp.ElementRule(el.order + 1, el.axial_points, el.poisson_cure)
+        mats = [_cpp.Material(f.material.young, f.material.poisson) for f in mesh.fibres]
+        secs = [_cpp.SectionQuadrature(f.radius, el.section_order) for f in mesh.fibres]
+        groups = mesh.element_fibre[mesh.local_element_ids].astype(np.int32)
+        self._assembler = _cpp.BeamAssembler(rule, mesh.elements_local, groups, mats, secs,
+                                             np.ascontiguousarray(mesh.X_local.ravel()))
+        self._mesh = mesh
+        self.energy = 0.0
+
+    def add_sparsity(self, sparsity) -> None:
+        for e in self._mesh.elements_local:
+            sparsity.insert("beam", "beam", e, e)
+
+    def residual(self, state: State, b) -> None:
+        self.energy = self._assembler.assemble_vector(state.u["beam"], b["beam"])
+
+    def jacobian(self, state: State, A) -> None:
+        self._assembler.assemble_matrix(A, state.u["beam"], state.dofs["beam"])
+
+    def element_fields(self, u_beam: np.ndarray) -> np.ndarray:
+        """(local elements, 12): section-averaged GL strain and 2nd PK stress
+        (Voigt 11, 22, 33, 23, 13, 12; local frame, 3 = fibre axis)."""
+        return self._assembler.fields(u_beam)

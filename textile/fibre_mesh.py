@@ -1,0 +1,147 @@
+"""The fibres' nodes and elements, numbered globally and split over ranks.
+
+Nodes are numbered fibre after fibre. Each rank owns a contiguous, balanced
+range of node numbers; an element belongs to the rank owning its first
+node, and the other nodes it needs are ghosts. One fibre may thus be cut
+between ranks, so beam assembly is genuinely distributed. Geometry is small
+(9 numbers a node) and is replicated on every rank; unknowns are not.
+"""
+from __future__ import annotations
+
+import numpy as np
+from dolfinx import cpp as _cpp
+
+from .fibre import Fibre
+
+#: Names of a node's 9 unknowns, in storage order.
+DOF_NAMES = ("x", "y", "z", "g1x", "g1y", "g1z", "g2x", "g2y", "g2z")
+#: Groups of unknowns accepted wherever dofs are named.
+DOF_GROUPS = {
+    "position": (0, 1, 2),
+    "g1": (3, 4, 5),
+    "g2": (6, 7, 8),
+    "section": (3, 4, 5, 6, 7, 8),
+    "all": tuple(range(9)),
+}
+
+
+def dof_indices(dofs) -> tuple[int, ...]:
+    """Indices (0..8) of dof names, groups or integers; ValueError otherwise."""
+    if isinstance(dofs, (str, int, np.integer)):
+        dofs = [dofs]
+    out = []
+    for d in dofs:
+        if isinstance(d, str):
+            if d in DOF_GROUPS:
+                out.extend(DOF_GROUPS[d])
+            elif d in DOF_NAMES:
+                out.append(DOF_NAMES.index(d))
+            else:
+                raise ValueError(f"unknown dof name {d!r}; use one of {DOF_NAMES} "
+                                 f"or a group {tuple(DOF_GROUPS)}")
+        elif isinstance(d, (int, np.integer)) and not isinstance(d, bool) and 0 <= d < 9:
+            out.append(int(d))
+        else:
+            raise ValueError(f"unknown dof {d!r}: expected a name or an index in 0..8")
+    return tuple(dict.fromkeys(out))
+
+
+class FibreMesh:
+    """Global numbering and MPI distribution of all fibres' nodes and elements."""
+
+    def __init__(self, comm, fibres: list[Fibre], order: int):
+        if order not in (1, 2):
+            raise ValueError(f"element order must be 1 or 2, got {order!r}")
+        if not fibres:
+            raise ValueError("fibres: at least one fibre is needed")
+        self.comm = comm
+        self.fibres = list(fibres)
+        self.order = order
+        nn = order + 1
+        first, elements, groups = [], [], []
+        n0 = 0
+        for f, fib in enumerate(self.fibres):
+            if not isinstance(fib, Fibre):
+                raise TypeError(f"fibres[{f}] is not a textile.Fibre")
+            if (fib.num_nodes - 1) % order:
+                raise ValueError(f"fibres[{f}] has {fib.num_nodes} nodes: quadratic elements need "
+                                 "an odd number of nodes")
+            first.append(n0)
+            ne = (fib.num_nodes - 1) // order
+            elements.append(n0 + order * np.arange(ne)[:, None] + np.arange(nn)[None, :])
+            groups.append(np.full(ne, f, dtype=np.int32))
+            n0 += fib.num_nodes
+        self.first_node = np.array(first + [n0], dtype=np.int64)
+        self.num_nodes_global = n0
+        self.elements_global = np.vstack(elements).astype(np.int64)
+        self.element_fibre = np.concatenate(groups)
+        self.X_global = np.vstack([fib.reference_dofs() for fib in self.fibres])
+
+        # balanced contiguous ownership of node ranges
+        size, rank = comm.size, comm.rank
+        bounds = (np.arange(size + 1) * n0) // size
+        # do not start a rank's range in the middle of an element: move the
+        # boundary to an element's first node so ghosts stay few
+        starts = self.elements_global[:, 0]
+        for r in range(1, size):
+            k = np.searchsorted(starts, bounds[r])
+            bounds[r] = starts[k] if k < len(starts) else n0
+        bounds = np.maximum.accumulate(bounds)
+        self.bounds = bounds
+        self.owned = (int(bounds[rank]), int(bounds[rank + 1]))
+        lo, hi = self.owned
+        mine = (starts >= lo) & (starts < hi)
+        self.local_element_ids = np.flatnonzero(mine)
+        elems = self.elements_global[mine]
+        outside = np.unique(elems[(elems < lo) | (elems >= hi)])
+        self.ghosts = outside.astype(np.int64)
+        owners = (np.searchsorted(bounds, self.ghosts, side="right") - 1).astype(np.int32)
+        self.index_map = _cpp.common.IndexMap(comm, hi - lo, self.ghosts, owners)
+        self.local_to_global = np.concatenate([np.arange(lo, hi, dtype=np.int64), self.ghosts])
+        self.elements_local = self.global_to_local(elems).astype(np.int32)
+        self.X_local = self.X_global[self.local_to_global]
+
+    # -- numbering ----------------------------------------------------------
+    @property
+    def num_owned(self) -> int:
+        return self.owned[1] - self.owned[0]
+
+    @property
+    def num_local(self) -> int:
+        return len(self.local_to_global)
+
+    def global_to_local(self, nodes) -> np.ndarray:
+        """Local index (owned then ghosts) of global nodes; -1 if absent."""
+        nodes = np.asarray(nodes, dtype=np.int64)
+        lo, hi = self.owned
+        out = np.full(nodes.shape, -1, dtype=np.int64)
+        own = (nodes >= lo) & (nodes < hi)
+        out[own] = nodes[own] - lo
+        if len(self.ghosts):
+            k = np.searchsorted(self.ghosts, nodes)
+            k = np.minimum(k, len(self.ghosts) - 1)
+            hit = ~own & (self.ghosts[k] == nodes)
+            out[hit] = (hi - lo) + k[hit]
+        return out
+
+    def node(self, fibre: int | Fibre, node: int) -> int:
+        """Global number of node ``node`` of ``fibre`` (negative counts from the end)."""
+        f = self.fibre_index(fibre)
+        n = self.fibres[f].num_nodes
+        if isinstance(node, bool) or not isinstance(node, (int, np.integer)) or not -n <= node < n:
+            raise ValueError(f"node {node!r} out of range for fibre {f} with {n} nodes")
+        return int(self.first_node[f] + (node % n))
+
+    def fibre_index(self, fibre) -> int:
+        if isinstance(fibre, Fibre):
+            for i, f in enumerate(self.fibres):
+                if f is fibre:
+                    return i
+            raise ValueError("fibre is not part of this model")
+        if isinstance(fibre, (int, np.integer)) and 0 <= fibre < len(self.fibres):
+            return int(fibre)
+        raise ValueError(f"unknown fibre {fibre!r}")
+
+    def fibre_nodes(self, fibre) -> np.ndarray:
+        f = self.fibre_index(fibre)
+        return np.arange(self.first_node[f], self.first_node[f + 1])

@@ -1,0 +1,295 @@
+"""A scene and its monolithic system: fibres, constraints, loads, effects.
+
+The model owns the stacked layout of all fields (see :mod:`textile.layout`),
+the global matrix and vectors, and evaluates residual and tangent for the
+PETSc SNES by summing the effects the scene has.
+"""
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from . import _cpp
+from .effects import BeamElasticity, EndMoments, NodalForces, State
+from .effects.base import Effect
+from .element import BeamElement
+from .fibre import Fibre
+from .fibre_mesh import FibreMesh, dof_indices
+from .layout import DofLayout, Field, SparsityBuilder
+
+
+class Model:
+    """Fibres plus everything acting on them, assembled into one system.
+
+    Parameters
+    ----------
+    fibres:
+        List of :class:`~textile.Fibre`.
+    element:
+        :class:`~textile.BeamElement` (order, quadratures); default quadratic.
+    comm:
+        MPI communicator (default ``MPI.COMM_WORLD``).
+    """
+
+    def __init__(self, fibres, element: BeamElement | None = None, comm=MPI.COMM_WORLD):
+        if isinstance(fibres, Fibre):
+            fibres = [fibres]
+        self.comm = comm
+        self.element = element if element is not None else BeamElement()
+        if not isinstance(self.element, BeamElement):
+            raise TypeError("element must be a textile.BeamElement")
+        self.mesh = FibreMesh(comm, list(fibres), self.element.order)
+        self.beam = BeamElasticity()
+        self._forces = NodalForces()
+        self._moments = EndMoments()
+        self._effects: list[Effect] = []
+        # prescribed beam dofs: global node -> {dof: value or callable}
+        self._fixed: dict[tuple[int, int], object] = {}
+        self._ready = False
+        self.load_factor = 0.0
+
+    # -- scene definition ------------------------------------------------
+    def _check_open(self):
+        if self._ready:
+            raise RuntimeError("the model is already assembled: define the scene before solving")
+
+    def fix(self, fibre, node: int, dofs="all", value=0.0) -> None:
+        """Prescribe node unknowns' displacement.
+
+        ``dofs``: names ("x", "g1y", ...), groups ("position", "g1", "g2",
+        "section", "all") or indices 0..8. ``value``: displacement reached at
+        load factor 1 (scalar, one per dof, or a callable ``t -> values``);
+        the displacement at load factor t is t * value.
+        """
+        self._check_open()
+        idx = dof_indices(dofs)
+        g = self.mesh.node(fibre, node)
+        if callable(value):
+            for k, d in enumerate(idx):
+                self._fixed[(g, d)] = (value, k)
+            return
+        vals = np.broadcast_to(np.asarray(value, dtype=float), (len(idx),))
+        if not np.all(np.isfinite(vals)):
+            raise ValueError("value contains NaN or infinite numbers")
+        for d, v in zip(idx, vals):
+            self._fixed[(g, d)] = float(v)
+
+    def clamp(self, fibre, node: int) -> None:
+        """Fix position and section vectors of a node (a clamped end)."""
+        self.fix(fibre, node, "all", 0.0)
+
+    def add_force(self, fibre, node: int, force, dofs="position") -> None:
+        """Dead force on a node: a 3-vector on its position by default, or
+        one value per named dof. Reached at load factor 1."""
+        self._check_open()
+        idx = dof_indices(dofs)
+        f = np.asarray(force, dtype=float).ravel()
+        if f.shape != (len(idx),) or not np.all(np.isfinite(f)):
+            raise ValueError(f"force must hold {len(idx)} finite values, got {force!r}")
+        g = self.mesh.node(fibre, node)
+        for d, v in zip(idx, f):
+            self._forces.add(g, d, v)
+
+    def add_end_moment(self, fibre, node: int, moment) -> None:
+        """Moment vector (fixed in space) on a node's section, reached at load factor 1."""
+        self._check_open()
+        m = np.asarray(moment, dtype=float)
+        if m.shape != (3,) or not np.all(np.isfinite(m)):
+            raise ValueError(f"moment must be a finite 3-vector, got {moment!r}")
+        self._moments.add(self.mesh.node(fibre, node), m)
+
+    def add_effect(self, effect: Effect) -> None:
+        """Add a physics term (e.g. an elastic matrix block, a junction)."""
+        self._check_open()
+        if not isinstance(effect, Effect):
+            raise TypeError("effect must be a textile.effects.Effect")
+        self._effects.append(effect)
+
+    @property
+    def force_scale(self) -> float:
+        """Largest fibre axial stiffness E*A (force unit): the scale of the
+        internal forces, used for absolute solver tolerances."""
+        return max(f.material.young * np.pi * f.radius ** 2 for f in self.mesh.fibres)
+
+    # -- system ------------------------------------------------------------
+    @property
+    def effects(self) -> list[Effect]:
+        """Effects assembled in this scene (loads only when present)."""
+        out: list[Effect] = [self.beam]
+        if self._forces._items:
+            out.append(self._forces)
+        if self._moments._items:
+            out.append(self._moments)
+        return out + self._effects
+
+    def setup(self) -> None:
+        """Build layout, sparsity and matrix (called by the solver)."""
+        if self._ready:
+            return
+        fields = [Field("beam", self.mesh.index_map, 9)]
+        for e in self.effects:
+            fields += e.add_fields(self)
+        self.layout = DofLayout(self.comm, fields)
+        for e in self.effects:
+            e.setup(self)
+        sp = SparsityBuilder(self.layout)
+        for e in self.effects:
+            e.add_sparsity(sp)
+        self.A = sp.create_matrix()
+        self.x = self.layout.create_vector()
+        self.b = self.layout.create_vector()
+        self._setup_constraints()
+        self._ready = True
+
+    def _setup_constraints(self) -> None:
+        mesh = self.mesh
+        keys = sorted(self._fixed)
+        nodes = np.array([k[0] for k in keys], dtype=np.int64)
+        local = mesh.global_to_local(nodes) if keys else np.zeros(0, dtype=np.int64)
+        have = local >= 0
+        self._beam_fixed_keys = [k for k, h in zip(keys, have) if h]
+        self._beam_fixed_local = np.array([9 * l + k[1] for l, k in zip(local[have],
+                                           self._beam_fixed_keys)], dtype=np.int64)
+
+    def _constraints(self, t: float) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """Field -> (local unrolled dofs, prescribed displacement at t)."""
+        vals = np.empty(len(self._beam_fixed_keys))
+        for i, key in enumerate(self._beam_fixed_keys):
+            v = self._fixed[key]
+            if isinstance(v, tuple):
+                fun, k = v
+                vals[i] = float(np.atleast_1d(fun(t))[k])
+            else:
+                vals[i] = t * v
+        out = {"beam": (self._beam_fixed_local, vals)}
+        for e in self._effects:
+            for name, (dofs, v) in e.constraints(t).items():
+                if name in out:
+                    d0, v0 = out[name]
+                    out[name] = (np.concatenate([d0, dofs]), np.concatenate([v0, v]))
+                else:
+                    out[name] = (np.asarray(dofs, dtype=np.int64), np.asarray(v, dtype=float))
+        return out
+
+    def state(self, x: PETSc.Vec | None = None) -> State:
+        """Local view of the unknowns in x (default: the model's solution)."""
+        x = self.x if x is None else x
+        x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+        arrays = self.layout.get_local(x)
+        st = State(self.load_factor)
+        for f, a in zip(self.layout.fields, arrays):
+            st.u[f.name] = a
+            st.dofs[f.name] = self.layout.local_dofs(f.name)
+        for name, (dofs, _) in self._constraints(self.load_factor).items():
+            d = st.dofs[name].copy()
+            d[dofs] = -1
+            st.dofs[name] = d
+        return st
+
+    def apply_constraints(self, x: PETSc.Vec) -> None:
+        """Set prescribed values at the current load factor into x."""
+        arrays = [a.copy() for a in self.layout.get_local(x)]
+        for name, (dofs, vals) in self._constraints(self.load_factor).items():
+            arrays[self.layout.index(name)][dofs] = vals
+        self.layout.scatter(x, arrays)
+        x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+
+    def _owned_constrained(self, t: float):
+        """Stacked local indices (owned only) and values of constrained dofs."""
+        idx, vals = [], []
+        for name, (dofs, v) in self._constraints(t).items():
+            f = self.layout.field(name)
+            own = dofs < f.size_local
+            idx.append(self.layout.offset(name) + dofs[own])
+            vals.append(v[own])
+        return (np.concatenate(idx).astype(np.int64) if idx else np.zeros(0, np.int64),
+                np.concatenate(vals) if vals else np.zeros(0))
+
+    def residual(self, snes, x: PETSc.Vec, b: PETSc.Vec) -> None:
+        """SNES function: r(u) with constrained rows replaced by u - u_prescribed."""
+        st = self.state(x)
+        local = {f.name: np.zeros(f.size_ghosted) for f in self.layout.fields}
+        for e in self.effects:
+            e.residual(st, local)
+        self.layout.scatter(b, [local[f.name] for f in self.layout.fields])
+        b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        idx, vals = self._owned_constrained(self.load_factor)
+        barr = b.getArray()
+        xarr = x.getArray(readonly=True)
+        # owned part of the stacked local numbering -> position in the owned array
+        pos = self._owned_position(idx)
+        self._reaction_values = barr[pos].copy()   # internal - external force at supports
+        barr[pos] = xarr[pos] - vals
+        if not np.all(np.isfinite(barr)):
+            # a non-finite residual makes SNES stop with DIVERGED_FNORM_NAN:
+            # the load step is then cut, never accepted
+            barr[~np.isfinite(barr)] = np.inf
+
+    def _owned_position(self, stacked_local: np.ndarray) -> np.ndarray:
+        """Map stacked local indices of owned dofs to positions in the owned
+        part of the global vector (fields' owned blocks are contiguous)."""
+        pos = np.empty_like(stacked_local)
+        start_owned = 0
+        for f in self.layout.fields:
+            off = self.layout.offset(f.name)
+            sel = (stacked_local >= off) & (stacked_local < off + f.size_local)
+            pos[sel] = stacked_local[sel] - off + start_owned
+            start_owned += f.size_local
+        return pos
+
+    def jacobian(self, snes, x: PETSc.Vec, J: PETSc.Mat, P: PETSc.Mat) -> None:
+        """SNES Jacobian: sum of the effects' tangents, identity on constrained rows."""
+        st = self.state(x)
+        P.zeroEntries()
+        for e in self.effects:
+            e.jacobian(st, P)
+        idx, _ = self._owned_constrained(self.load_factor)
+        idx32 = idx.astype(np.int32)
+        for i in idx32:
+            _cpp.add_block(P, np.array([i], np.int32), np.array([i], np.int32), np.ones(1))
+        P.assemble()
+        if J != P:
+            J.assemble()
+
+    # -- results -------------------------------------------------------------
+    def _gather_beam(self, values: np.ndarray) -> np.ndarray:
+        """All ranks: (global nodes, 9) from each rank's owned node values."""
+        owned = np.ascontiguousarray(values[: 9 * self.mesh.num_owned])
+        parts = self.comm.allgather(owned)
+        return np.concatenate(parts).reshape(-1, 9)
+
+    def nodal_unknowns(self) -> np.ndarray:
+        """Current (global nodes, 9) values [x0, g1, g2] (positions, not
+        displacements), identical on every rank."""
+        self.setup()
+        u = self.state().u["beam"]
+        return self.mesh.X_global + self._gather_beam(u)
+
+    def centreline(self, fibre) -> np.ndarray:
+        """Current (n, 3) centre-line node positions of ``fibre``."""
+        return self.nodal_unknowns()[self.mesh.fibre_nodes(fibre), 0:3]
+
+    def section_vectors(self, fibre) -> tuple[np.ndarray, np.ndarray]:
+        """Current (n, 3) section vectors g1, g2 of ``fibre``."""
+        q = self.nodal_unknowns()[self.mesh.fibre_nodes(fibre)]
+        return q[:, 3:6], q[:, 6:9]
+
+    def reaction(self, fibre, node: int, dofs="position") -> np.ndarray:
+        """Support reaction (internal minus external generalized force) on the
+        named constrained dofs of a node, from the last residual evaluation.
+        Positive along +axis: the force the fibre exerts on its support."""
+        g = self.mesh.node(fibre, node)
+        idx = dof_indices(dofs)
+        out = np.zeros(len(idx))
+        l = self.mesh.global_to_local([g])[0]
+        if 0 <= l < self.mesh.num_owned:
+            offs, _ = self._owned_constrained(self.load_factor)
+            for k, d in enumerate(idx):
+                hit = np.flatnonzero(offs == self.layout.offset("beam") + 9 * l + d)
+                if len(hit) == 0:
+                    raise ValueError(f"dof {d} of node {node} is not constrained: no reaction")
+                out[k] = self._reaction_values[hit[0]]
+        return self.comm.allreduce(out, op=MPI.SUM)

@@ -1,0 +1,239 @@
+"""Load stepping with one PETSc SNES over the model's monolithic system.
+
+Each step raises the load factor t (loads and prescribed displacements
+scale with it), predicts the prescribed values, and runs Newton with line
+search (SNES ``newtonls``) with a direct solver (MUMPS LU by default). A
+step that fails (divergence, NaN, too many iterations, an error in a
+kernel) is restored and cut; easy steps let the step grow. A step that
+cannot be completed ends the run with :class:`ConvergenceError`; every
+converged step is already on disk by then.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from petsc4py import PETSc
+
+from .model import Model
+
+
+class ConvergenceError(RuntimeError):
+    """A load step could not be completed even with the smallest step."""
+
+
+@dataclass
+class SolverOptions:
+    """Options of :class:`Solver` (unknown names raise ValueError).
+
+    Attributes
+    ----------
+    initial_step, min_step, max_step:
+        Load-factor increments (0 < min <= initial <= max <= 1).
+    grow, cut:
+        Step multiplier after an easy step (<= easy_iterations Newton
+        iterations) and after a failed one.
+    easy_iterations:
+        Newton iterations at or below which a step counts as easy.
+    rtol, atol, stol, max_it:
+        SNES tolerances: residual norm relative to the step's first one;
+        absolute residual norm as a fraction of the model's force scale
+        (the largest fibre's E*A: round-off in the internal forces sits
+        near 1e-15 of it); relative step norm; Newton iterations per attempt.
+    line_search:
+        SNES line search; "basic" (full Newton steps, default): the residual
+        norm mixes forces on positions and on section vectors, which misleads
+        norm-decrease searches such as "bt" on these beams; failed steps are
+        cut instead.
+    linear_solver:
+        "mumps" (LU, default), "superlu_dist" or "petsc" (serial LU).
+    petsc_options:
+        Extra PETSc options for this solver's SNES/KSP/PC, e.g.
+        {"snes_linesearch_type": "basic"} (applied with the solver's prefix);
+        command-line -snes_*, -ksp_*, -pc_* options also apply.
+    verbose:
+        Print one progress line per step on rank 0.
+    """
+
+    initial_step: float = 0.1
+    min_step: float = 1e-4
+    max_step: float = 0.25
+    grow: float = 1.5
+    cut: float = 0.5
+    easy_iterations: int = 4
+    rtol: float = 1e-10
+    atol: float = 1e-13
+    stol: float = 1e-10
+    max_it: int = 25
+    line_search: str = "basic"
+    linear_solver: str = "mumps"
+    petsc_options: dict = field(default_factory=dict)
+    verbose: bool = True
+
+    @classmethod
+    def from_dict(cls, d: dict | None) -> "SolverOptions":
+        d = dict(d or {})
+        names = {f.name for f in dataclasses.fields(cls)}
+        unknown = sorted(set(d) - names)
+        if unknown:
+            raise ValueError(f"unknown solver option(s) {unknown}; valid: {sorted(names)}")
+        return cls(**d)
+
+    def __post_init__(self):
+        for name in ("initial_step", "min_step", "max_step", "grow", "cut", "rtol", "atol", "stol"):
+            v = getattr(self, name)
+            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+                raise ValueError(f"SolverOptions.{name} must be a positive number, got {v!r}")
+        if not self.min_step <= self.initial_step <= self.max_step <= 1.0:
+            raise ValueError("SolverOptions: need 0 < min_step <= initial_step <= max_step <= 1")
+        if not 0 < self.cut < 1 or self.grow < 1:
+            raise ValueError("SolverOptions: need 0 < cut < 1 and grow >= 1")
+        if self.linear_solver not in ("mumps", "superlu_dist", "petsc"):
+            raise ValueError(f"SolverOptions.linear_solver must be 'mumps', 'superlu_dist' or "
+                             f"'petsc', got {self.linear_solver!r}")
+
+
+@dataclass
+class StepRecord:
+    """Statistics of one converged load step."""
+
+    step: int
+    load_factor: float
+    newton_iterations: int
+    attempts: int
+    residual_norms: list
+    wall_time: float
+    converged_reason: int
+    energy: float
+
+
+class Solver:
+    """Drive a :class:`~textile.Model` through load steps with one SNES.
+
+    Parameters
+    ----------
+    model:
+        The scene.
+    options:
+        :class:`SolverOptions` or a dict of its fields.
+    output:
+        Optional :class:`~textile.output.Output` (ParaView files, results.json)
+        written after every converged step.
+    on_step:
+        Optional callable ``(solver, record)`` after each converged step,
+        e.g. to record a load curve.
+    """
+
+    _count = 0
+
+    def __init__(self, model: Model, options=None, output=None, on_step=None):
+        self.model = model
+        self.options = options if isinstance(options, SolverOptions) \
+            else SolverOptions.from_dict(options)
+        self.output = output
+        self.on_step = on_step
+        self.history: list[StepRecord] = []
+        model.setup()
+        self.comm = model.comm
+        Solver._count += 1
+        self.prefix = f"textile{Solver._count}_"
+        self.snes = self._create_snes()
+
+    def _create_snes(self) -> PETSc.SNES:
+        o, m = self.options, self.model
+        snes = PETSc.SNES().create(self.comm)
+        snes.setOptionsPrefix(self.prefix)
+        snes.setType("newtonls")
+        snes.setFunction(m.residual, m.b)
+        snes.setJacobian(m.jacobian, m.A)
+        snes.setTolerances(rtol=o.rtol, atol=o.atol * m.force_scale, stol=o.stol, max_it=o.max_it)
+        snes.setConvergenceHistory()
+        ksp = snes.getKSP()
+        ksp.setType("preonly")
+        pc = ksp.getPC()
+        pc.setType("lu")
+        if o.linear_solver != "petsc":
+            pc.setFactorSolverType(o.linear_solver)
+        opts = PETSc.Options()
+        # petsc4py 3.18 has no SNESLineSearch binding: set it as an option
+        opts[self.prefix + "snes_linesearch_type"] = o.line_search
+        for k, v in o.petsc_options.items():
+            opts[self.prefix + k.lstrip("-")] = v
+        snes.setFromOptions()
+        # generic command-line options (-snes_monitor, ...) without our prefix
+        snes.setOptionsPrefix(None)
+        snes.setFromOptions()
+        snes.setOptionsPrefix(self.prefix)
+        return snes
+
+    def _log(self, msg: str) -> None:
+        if self.options.verbose and self.comm.rank == 0:
+            print(msg, flush=True)
+
+    def step_to(self, t: float) -> tuple[bool, int, list, int]:
+        """One Newton solve at load factor t from the current state."""
+        m = self.model
+        m.load_factor = t
+        m.apply_constraints(m.x)
+        try:
+            self.snes.solve(None, m.x)
+        except PETSc.Error as e:  # an exception raised inside a callback
+            self._log(f"    SNES error at t={t:.6g}: {e}")
+            return False, self.snes.getIterationNumber(), [], -100
+        reason = self.snes.getConvergedReason()
+        its = self.snes.getIterationNumber()
+        hist = [float(r) for r in self.snes.getConvergenceHistory()[0][: its + 1]]
+        ok = reason > 0 and np.isfinite(m.x.norm())
+        return ok, its, hist, reason
+
+    def solve(self, t_end: float = 1.0) -> list[StepRecord]:
+        """Advance from the current load factor to ``t_end`` (default 1)."""
+        o, m = self.options, self.model
+        if not (isinstance(t_end, (int, float)) and math.isfinite(t_end)):
+            raise ValueError(f"t_end must be a finite number, got {t_end!r}")
+        t = m.load_factor
+        dt = min(o.initial_step, o.max_step)
+        x_saved = m.x.copy()
+        attempts = 0
+        while t < t_end - 1e-14:
+            step = min(dt, t_end - t)
+            t0 = time.perf_counter()
+            ok, its, hist, reason = self.step_to(t + step)
+            attempts += 1
+            if not ok:
+                x_saved.copy(m.x)
+                m.load_factor = t
+                dt = step * o.cut
+                self._log(f"  step to t={t + step:.6g} failed (reason {reason}, {its} its): "
+                          f"cutting to dt={dt:.3g}")
+                if dt < o.min_step:
+                    msg = (f"load step from t={t:.6g} did not converge even with dt < "
+                           f"min_step={o.min_step:g} (last SNES reason {reason}); "
+                           f"{len(self.history)} converged steps are kept")
+                    if self.output is not None:
+                        self.output.failure(msg)
+                    raise ConvergenceError(msg)
+                continue
+            t += step
+            m.x.copy(x_saved)
+            rec = StepRecord(len(self.history) + 1, t, its, attempts, hist,
+                             time.perf_counter() - t0, reason,
+                             self.comm.allreduce(m.beam.energy))
+            self.history.append(rec)
+            attempts = 0
+            self._log(f"step {rec.step:3d}  t={t:.4f}  newton={its:2d}  "
+                      f"|r|={hist[-1] if hist else float('nan'):.2e}  {rec.wall_time:.2f}s")
+            if self.output is not None:
+                self.output.write_step(self, rec)
+            if self.on_step is not None:
+                self.on_step(self, rec)
+            if its <= o.easy_iterations:
+                dt = min(step * o.grow, o.max_step)
+            else:
+                dt = step
+        return self.history
