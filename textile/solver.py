@@ -50,6 +50,10 @@ class SolverOptions:
         norm mixes forces on positions and on section vectors, which misleads
         norm-decrease searches such as "bt" on these beams; failed steps are
         cut instead.
+    predictor:
+        Initial guess of a step: "secant" extrapolates the last converged
+        increment (fewer Newton iterations on smooth paths), "none" starts
+        from the last converged state.
     linear_solver:
         "mumps" (LU, default), "superlu_dist" or "petsc" (serial LU).
     petsc_options:
@@ -71,6 +75,7 @@ class SolverOptions:
     stol: float = 1e-10
     max_it: int = 25
     line_search: str = "basic"
+    predictor: str = "secant"
     linear_solver: str = "mumps"
     petsc_options: dict = field(default_factory=dict)
     verbose: bool = True
@@ -93,6 +98,9 @@ class SolverOptions:
             raise ValueError("SolverOptions: need 0 < min_step <= initial_step <= max_step <= 1")
         if not 0 < self.cut < 1 or self.grow < 1:
             raise ValueError("SolverOptions: need 0 < cut < 1 and grow >= 1")
+        if self.predictor not in ("secant", "none"):
+            raise ValueError(f"SolverOptions.predictor must be 'secant' or 'none', "
+                             f"got {self.predictor!r}")
         if self.linear_solver not in ("mumps", "superlu_dist", "petsc"):
             raise ValueError(f"SolverOptions.linear_solver must be 'mumps', 'superlu_dist' or "
                              f"'petsc', got {self.linear_solver!r}")
@@ -138,6 +146,7 @@ class Solver:
         self.output = output
         self.on_step = on_step
         self.history: list[StepRecord] = []
+        self._previous = None  # (load factor, state) of the step before the last
         model.setup()
         self.comm = model.comm
         Solver._count += 1
@@ -152,7 +161,7 @@ class Solver:
         snes.setFunction(m.residual, m.b)
         snes.setJacobian(m.jacobian, m.A)
         snes.setTolerances(rtol=o.rtol, atol=o.atol * m.force_scale, stol=o.stol, max_it=o.max_it)
-        snes.setConvergenceHistory()
+        snes.setConvergenceHistory(reset=True)
         ksp = snes.getKSP()
         ksp.setType("preonly")
         pc = ksp.getPC()
@@ -162,6 +171,10 @@ class Solver:
         opts = PETSc.Options()
         # petsc4py 3.18 has no SNESLineSearch binding: set it as an option
         opts[self.prefix + "snes_linesearch_type"] = o.line_search
+        # the first Newton iterate of a finite rotation can raise the residual
+        # norm by orders of magnitude (section vectors stretch to first
+        # order): no divergence-by-growth test, failures are caught by max_it
+        opts[self.prefix + "snes_divergence_tolerance"] = -1
         for k, v in o.petsc_options.items():
             opts[self.prefix + k.lstrip("-")] = v
         snes.setFromOptions()
@@ -176,8 +189,14 @@ class Solver:
             print(msg, flush=True)
 
     def step_to(self, t: float) -> tuple[bool, int, list, int]:
-        """One Newton solve at load factor t from the current state."""
+        """One Newton solve at load factor t from the current state (plus
+        the predictor's extrapolation)."""
         m = self.model
+        prev = self._previous
+        if self.options.predictor == "secant" and prev is not None and prev[0] < m.load_factor:
+            t_prev, x_prev = prev
+            # x += (t - t_n) / (t_n - t_prev) * (x_n - x_prev)
+            m.x.axpy((t - m.load_factor) / (m.load_factor - t_prev), m.x - x_prev)
         m.load_factor = t
         m.apply_constraints(m.x)
         try:
@@ -219,6 +238,7 @@ class Solver:
                         self.output.failure(msg)
                     raise ConvergenceError(msg)
                 continue
+            self._previous = (t, x_saved.copy())
             t += step
             m.x.copy(x_saved)
             rec = StepRecord(len(self.history) + 1, t, its, attempts, hist,
