@@ -93,13 +93,50 @@ class FibreMesh:
         mine = (starts >= lo) & (starts < hi)
         self.local_element_ids = np.flatnonzero(mine)
         elems = self.elements_global[mine]
-        outside = np.unique(elems[(elems < lo) | (elems >= hi)])
-        self.ghosts = outside.astype(np.int64)
-        owners = (np.searchsorted(bounds, self.ghosts, side="right") - 1).astype(np.int32)
-        self.index_map = _cpp.common.IndexMap(comm, hi - lo, self.ghosts, owners)
+        self._index_map = None
+        self._set_ghosts(elems[(elems < lo) | (elems >= hi)])
+
+    def _set_ghosts(self, nodes) -> None:
+        """(Re)number the local nodes: owned range, then the sorted ghosts."""
+        lo, hi = self.owned
+        self.ghosts = np.unique(np.asarray(nodes, dtype=np.int64))
+        self._ghost_owners = (np.searchsorted(self.bounds, self.ghosts, side="right")
+                              - 1).astype(np.int32)
         self.local_to_global = np.concatenate([np.arange(lo, hi, dtype=np.int64), self.ghosts])
+        elems = self.elements_global[self.local_element_ids]
         self.elements_local = self.global_to_local(elems).astype(np.int32)
         self.X_local = self.X_global[self.local_to_global]
+
+    @property
+    def index_map(self):
+        """IndexMap of the nodes (owned range, then ghosts). Built on first
+        use, which is collective (``Model.setup``); the local numbering is
+        final from then on."""
+        if self._index_map is None:
+            lo, hi = self.owned
+            self._index_map = _cpp.common.IndexMap(self.comm, hi - lo, self.ghosts,
+                                                   self._ghost_owners)
+        return self._index_map
+
+    def add_ghosts(self, nodes) -> None:
+        """Make global ``nodes`` local on this rank (ghosts where not owned).
+
+        For effects assembled on a rank that does not own the fibre nodes
+        they couple: a fibre-matrix junction is assembled by the rank owning
+        its matrix cell. Not collective. Only before the index map is built
+        (``Model.setup``), since it renumbers the ghosts.
+        """
+        if self._index_map is not None:
+            raise RuntimeError("FibreMesh.add_ghosts: the local numbering is final once the "
+                               "model is set up; create junctions before setting up or solving")
+        nodes = np.asarray(nodes, dtype=np.int64).ravel()
+        if np.any((nodes < 0) | (nodes >= self.num_nodes_global)):
+            raise ValueError(f"FibreMesh.add_ghosts: node numbers must lie in "
+                             f"[0, {self.num_nodes_global}), got {nodes.min()}..{nodes.max()}")
+        lo, hi = self.owned
+        extra = nodes[(nodes < lo) | (nodes >= hi)]
+        if len(np.setdiff1d(extra, self.ghosts)):
+            self._set_ghosts(np.concatenate([self.ghosts, extra]))
 
     # -- numbering ----------------------------------------------------------
     @property

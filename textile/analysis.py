@@ -1,0 +1,56 @@
+"""Stability analysis helpers: linearized buckling of a model's fibres.
+
+Small dense eigenproblems on one rank, for validation and studies of single
+fibres or small assemblies (a few thousand unknowns).
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg
+from petsc4py import PETSc
+
+from .model import Model
+from .solver import Solver
+
+
+def dense_tangent(model: Model) -> tuple[np.ndarray, np.ndarray]:
+    """Dense tangent at the model's current state and load factor, restricted
+    to the free (unconstrained) unknowns; returns (K_ff, free indices).
+    One rank only."""
+    if model.comm.size != 1:
+        raise NotImplementedError("dense_tangent runs on one rank")
+    model.setup()
+    model.jacobian(None, model.x, model.A, model.A)
+    # an empty target: convert() without one would turn model.A itself dense
+    K = model.A.convert("dense", PETSc.Mat()).getDenseArray().copy()
+    fixed, _ = model._owned_constrained(model.load_factor)
+    free = np.setdiff1d(np.arange(K.shape[0]), model._owned_position(fixed))
+    return K[np.ix_(free, free)], free
+
+
+def linear_buckling(model: Model, probe: float = 1e-3, solver_options=None,
+                    num: int = 1) -> np.ndarray:
+    """Critical load factors of the model's loads by linearized buckling.
+
+    The tangent is evaluated in the unloaded state (K0) and in the
+    equilibrium state at load factor ``probe`` (K1); with the geometric
+    stiffness Kg = (K1 - K0) / probe, the critical factors are the smallest
+    positive mu with det(K0 + mu Kg) = 0. Exact for a pre-buckling state
+    that is linear in the load (a straight column in compression, up to its
+    tiny axial shortening). Returns the ``num`` smallest positive factors.
+    """
+    model.setup()
+    if model.load_factor != 0.0:
+        raise ValueError("linear_buckling needs a model in its unloaded state")
+    K0, free = dense_tangent(model)
+    opts = dict(initial_step=probe, max_step=probe, min_step=probe / 16, verbose=False)
+    opts.update(solver_options or {})
+    Solver(model, opts).solve(probe)
+    K1, _ = dense_tangent(model)
+    Kg = (K1 - K0) / probe
+    mu = scipy.linalg.eigvals(K0, -Kg)
+    mu = mu[np.isfinite(mu)]
+    real = mu[(np.abs(mu.imag) <= 1e-8 * np.abs(mu.real)) & (mu.real > 0)].real
+    if real.size == 0:
+        raise RuntimeError("linear_buckling: no positive critical load factor found")
+    return np.sort(real)[:num]
