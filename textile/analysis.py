@@ -23,8 +23,7 @@ def dense_tangent(model: Model) -> tuple[np.ndarray, np.ndarray]:
     model.jacobian(None, model.x, model.A, model.A)
     # an empty target: convert() without one would turn model.A itself dense
     K = model.A.convert("dense", PETSc.Mat()).getDenseArray().copy()
-    fixed, _ = model._owned_constrained(model.load_factor)
-    free = np.setdiff1d(np.arange(K.shape[0]), model._owned_position(fixed))
+    free = np.setdiff1d(np.arange(K.shape[0]), model.constrained_positions())
     return K[np.ix_(free, free)], free
 
 

@@ -208,6 +208,12 @@ class Model:
         return (np.concatenate(idx).astype(np.int64) if idx else np.zeros(0, np.int64),
                 np.concatenate(vals) if vals else np.zeros(0))
 
+    def constrained_positions(self) -> np.ndarray:
+        """Positions, in this rank's owned part of the global vector, of the
+        unknowns constrained at the current load factor."""
+        idx, _ = self._owned_constrained(self.load_factor)
+        return self._owned_position(idx)
+
     def residual(self, snes, x: PETSc.Vec, b: PETSc.Vec) -> None:
         """SNES function: r(u) with constrained rows replaced by u - u_prescribed."""
         st = self.state(x)

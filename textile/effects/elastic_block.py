@@ -92,6 +92,8 @@ class ElasticBlock(Effect):
         self._clamp_dofs = self._locate_clamp(clamp)
         self._tree = None
         self._model = None
+        self._sub = [self.V.sub(c) for c in range(self.V.dofmap.index_map_bs)]
+        self._bcs, self._bcs_key = [], None
 
     # -- physics --------------------------------------------------------------
     def _forms(self):
@@ -157,13 +159,29 @@ class ElasticBlock(Effect):
         # rows and columns of every constrained dof of the field (the
         # clamp's and any other effect's) stay empty; the Model puts the
         # unit diagonal on them
-        fixed = (state.dofs[self.name] < 0).astype(np.int8)
+        bcs = self._zero_bcs(np.flatnonzero(state.dofs[self.name] < 0))
         Asub = A.getLocalSubMatrix(self._is, self._is)
         _dcpp.fem.petsc.assemble_matrix(Asub, self._J_form,
                                         _dcpp.fem.pack_constants(self._J_form),
                                         _dcpp.fem.pack_coefficients(self._J_form),
-                                        fixed, fixed, True)
+                                        bcs, True)
         A.restoreLocalSubMatrix(self._is, self._is, Asub)
+
+    def _zero_bcs(self, fixed: np.ndarray) -> list:
+        """Dirichlet conditions on the unrolled local dofs ``fixed``, one per
+        component (sub-space), only to zero their rows and columns.
+
+        dolfinx 0.5.2's marker overload of assemble_matrix is unusable (its
+        check rejects every 1D column marker), hence DirichletBC objects;
+        they are rebuilt only when the constrained set changes.
+        """
+        key = fixed.tobytes()
+        if self._bcs_key != key:
+            bs = self.V.dofmap.index_map_bs
+            self._bcs = [fem.dirichletbc(np.float64(0.0), fixed[fixed % bs == c].astype(np.int32),
+                                         self._sub[c]) for c in range(bs)]
+            self._bcs_key = key
+        return self._bcs
 
     # -- results ---------------------------------------------------------------
     def reaction(self) -> np.ndarray:
@@ -229,6 +247,11 @@ class ElasticBlock(Effect):
             cells[i] = c
             phi[i] = element.tabulate(0, X)[0, 0, :, 0]
         return cells, phi
+
+    def node_coordinates(self) -> np.ndarray:
+        """(local nodes, 3) reference coordinates of the field's nodes (block
+        dofs, owned then ghosts)."""
+        return self.V.tabulate_dof_coordinates()
 
     def cell_dofs(self, cells) -> np.ndarray:
         """(n, 4) local block dofs (node indices of the field) of local cells."""
