@@ -137,8 +137,13 @@ class SparsityBuilder:
 
     def set_pattern(self, row: str, col: str, pattern) -> None:
         """Use an existing (unassembled) dolfinx pattern for a block, e.g.
-        ``fem.create_sparsity_pattern(form)`` for the matrix field."""
-        self._patterns[(self.layout.index(row), self.layout.index(col))] = pattern
+        ``fem.create_sparsity_pattern(form)`` for the matrix field. Must come
+        before any insertion into that block (it would be lost)."""
+        key = (self.layout.index(row), self.layout.index(col))
+        if key in self._patterns:
+            raise RuntimeError(f"sparsity block ({row}, {col}) already exists: set_pattern must "
+                               "come first (add the effect that owns the field first)")
+        self._patterns[key] = pattern
 
     def pattern(self, row: str, col: str):
         i, j = self.layout.index(row), self.layout.index(col)

@@ -253,9 +253,7 @@ class Model:
         for e in self.effects:
             e.jacobian(st, P)
         idx, _ = self._owned_constrained(self.load_factor)
-        idx32 = idx.astype(np.int32)
-        for i in idx32:
-            _cpp.add_block(P, np.array([i], np.int32), np.array([i], np.int32), np.ones(1))
+        _cpp.add_diagonal(P, idx.astype(np.int32), 1.0)
         P.assemble()
         if J != P:
             J.assemble()
@@ -284,9 +282,10 @@ class Model:
         return q[:, 3:6], q[:, 6:9]
 
     def reaction(self, fibre, node: int, dofs="position") -> np.ndarray:
-        """Support reaction (internal minus external generalized force) on the
-        named constrained dofs of a node, from the last residual evaluation.
-        Positive along +axis: the force the fibre exerts on its support."""
+        """Support reaction on the named constrained dofs of a node, from the
+        last residual evaluation: internal minus external generalized force,
+        i.e. the force the support exerts on the fibre (a bar pulled by +P at
+        its free end has reaction -P at its clamp)."""
         g = self.mesh.node(fibre, node)
         idx = dof_indices(dofs)
         out = np.zeros(len(idx))

@@ -190,4 +190,10 @@ PYBIND11_MODULE(_cpp, m)
          const carray<double>& values) { assembly::add_block(A, cspan(rows), cspan(cols), cspan(values)); },
       py::arg("A"), py::arg("rows"), py::arg("cols"), py::arg("values"),
       "A[rows, cols] += values (local numbering; negative indices skipped)");
+
+  m.def(
+      "add_diagonal",
+      [](Mat A, const carray<std::int32_t>& rows, double value)
+      { assembly::add_diagonal(A, cspan(rows), value); },
+      py::arg("A"), py::arg("rows"), py::arg("value"), "A[i, i] += value for i in rows (local)");
 }

@@ -8,4 +8,17 @@ from .base import Effect, State
 from .beam_elasticity import BeamElasticity
 from .nodal_loads import EndMoments, NodalForces
 
-__all__ = ["Effect", "State", "BeamElasticity", "NodalForces", "EndMoments"]
+__all__ = ["Effect", "State", "BeamElasticity", "NodalForces", "EndMoments", "ElasticBlock",
+           "FibreMatrixTie"]
+
+# Effects that need dolfinx's form machinery (UFL, JIT) are imported on
+# first use: a scene without a matrix does not pay for them.
+_LAZY = {"ElasticBlock": "elastic_block", "FibreMatrixTie": "fibre_matrix_tie"}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        import importlib
+
+        return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -19,4 +19,16 @@ void add_block(Mat A, std::span<const std::int32_t> rows, std::span<const std::i
   if (ierr != 0)
     throw std::runtime_error("MatSetValuesLocal failed with PETSc error " + std::to_string(ierr));
 }
+
+void add_diagonal(Mat A, std::span<const std::int32_t> rows, double value)
+{
+  for (std::int32_t i : rows)
+  {
+    if (i < 0)
+      continue;
+    const PetscErrorCode ierr = MatSetValuesLocal(A, 1, &i, 1, &i, &value, ADD_VALUES);
+    if (ierr != 0)
+      throw std::runtime_error("MatSetValuesLocal failed with PETSc error " + std::to_string(ierr));
+  }
+}
 } // namespace textile::assembly

@@ -16,4 +16,7 @@ namespace textile::assembly
 void add_block(Mat A, std::span<const std::int32_t> rows, std::span<const std::int32_t> cols,
                std::span<const double> values);
 
+/// A[i, i] += value for every local index i in rows (negative skipped).
+void add_diagonal(Mat A, std::span<const std::int32_t> rows, double value);
+
 } // namespace textile::assembly

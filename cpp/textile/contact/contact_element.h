@@ -1,0 +1,76 @@
+// Contact element: a pair of particles on the section borders of two fibres.
+//
+// Within a Newton solve the element is fixed: each particle is a material
+// point (element abscissa xi and section coordinates xi1, xi2) and the
+// normal N is held constant (METHOD.md section 4, loops 1-2 update them).
+// The particle position x(p) = sum_a N_a(xi) (x0_a + xi1 g1_a + xi2 g2_a) is
+// then linear in the nodal unknowns, so
+//     Delta = x_i(p_i) - x_j(p_j),   gap = N . Delta
+// are linear too, and the residual and tangent below are exact.
+//
+// Signs: N points from fibre j towards fibre i, gap < 0 when they
+// interpenetrate. The residual is the internal force: the normal part is
+// -R_N(gap) dgap/dq (pushes the particles apart), the friction part is
+// T . dDelta/dq with T the tangential reaction (resists relative sliding).
+#pragma once
+
+#include "normal_law.h"
+#include "regularized_coulomb.h"
+
+#include <Eigen/Dense>
+
+#include <span>
+#include <vector>
+
+namespace textile::contact
+{
+
+/// A material point of a fibre element: axial coordinate xi in [-1, 1] of
+/// an element with num_nodes (2 or 3) nodes, section coordinates (xi1, xi2)
+/// (length) along g1, g2.
+struct Particle
+{
+  int num_nodes = 3;
+  double xi = 0;
+  double xi1 = 0, xi2 = 0;
+};
+
+/// Coefficients c_s, s = 3 a + f (node a, field f: x0, g1, g2), with
+/// x(p) = sum_s c_s q_s. Size 3 num_nodes.
+std::vector<double> particle_coefficients(const Particle& p);
+
+/// Position of the particle from the element's current nodal unknowns.
+Eigen::Vector3d particle_position(const Particle& p, std::span<const double> x);
+
+/// What one evaluation found.
+struct ContactResult
+{
+  double gap = 0;                             ///< N . Delta (length)
+  double normal_force = 0;                    ///< R_N >= 0
+  Eigen::Vector3d tangential_force = Eigen::Vector3d::Zero(); ///< T
+  Eigen::Vector3d delta = Eigen::Vector3d::Zero();            ///< Delta
+  bool slip = false;
+};
+
+/// Residual and tangent of one contact element.
+///
+/// @param pi, pj    particles on fibres i and j
+/// @param normal    unit normal N (from j towards i), fixed
+/// @param law       normal law R_N(gap)
+/// @param friction  nullptr for frictionless contact
+/// @param stick     Delta at the stick point (ignored without friction)
+/// @param xi, xj    current nodal unknowns of the two elements (9 n each)
+/// @param r         += residual, 9 (n_i + n_j) values ([element i, element j])
+/// @param K         += tangent, row-major, if not empty (not symmetric with friction)
+ContactResult contact_element(const Particle& pi, const Particle& pj,
+                              const Eigen::Vector3d& normal, const NormalLaw& law,
+                              const RegularizedCoulomb* friction, const Eigen::Vector3d& stick,
+                              std::span<const double> xi, std::span<const double> xj,
+                              std::span<double> r, std::span<double> K);
+
+/// Stick point after a converged step (return mapping): unchanged in stick;
+/// in slip moved along the slip so that the elastic part is u_rev.
+Eigen::Vector3d updated_stick(const Eigen::Vector3d& normal, const RegularizedCoulomb& friction,
+                              const Eigen::Vector3d& delta, const Eigen::Vector3d& stick);
+
+} // namespace textile::contact
