@@ -87,6 +87,18 @@ class DofLayout:
     def size_local(self) -> int:
         return sum(f.size_local for f in self.fields)
 
+    def global_dofs(self, name: str, blocks: np.ndarray, owners: np.ndarray) -> np.ndarray:
+        """Global (stacked) indices of the unrolled dofs of field ``name``'s
+        global blocks ``blocks`` owned by ranks ``owners``: (n, bs) array.
+        Lets an effect address unknowns that are not local (e.g. contact)."""
+        i = self._index[name]
+        bs = self.fields[i].bs
+        info = self._rank_info
+        base = np.array([info[r][0] + info[r][1][i] - bs * info[r][2][i] for r in range(len(info))],
+                        dtype=np.int64)
+        blocks = np.asarray(blocks, dtype=np.int64)
+        return (base[np.asarray(owners)] + bs * blocks)[:, None] + np.arange(bs)
+
     # -- vectors ----------------------------------------------------------
     def create_vector(self) -> PETSc.Vec:
         """A ghosted global vector of the stacked layout."""
@@ -109,6 +121,7 @@ class DofLayout:
         field_offset = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
         starts = [f.index_map.local_range[0] for f in self.fields]
         info = comm.allgather((rank_offset, field_offset, starts))
+        self._rank_info = info
         out = []
         for i, f in enumerate(self.fields):
             out.append(rank_offset + field_offset[i] + np.arange(sizes[i], dtype=np.int64))

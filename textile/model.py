@@ -139,6 +139,8 @@ class Model:
         for e in self.effects:
             e.add_sparsity(sp)
         self.A = sp.create_matrix()
+        if any(e.dynamic_sparsity for e in self.effects):
+            self.A.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
         self.x = self.layout.create_vector()
         self.b = self.layout.create_vector()
         self._setup_constraints()
@@ -222,6 +224,9 @@ class Model:
             e.residual(st, local)
         self.layout.scatter(b, [local[f.name] for f in self.layout.fields])
         b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        added = [e.residual_global(st, b) for e in self.effects]
+        if self.comm.allreduce(any(added), op=MPI.LOR):
+            b.assemble()
         idx, vals = self._owned_constrained(self.load_factor)
         barr = b.getArray()
         xarr = x.getArray(readonly=True)
@@ -264,6 +269,23 @@ class Model:
         owned = np.ascontiguousarray(values[: 9 * self.mesh.num_owned])
         parts = self.comm.allgather(owned)
         return np.concatenate(parts).reshape(-1, 9)
+
+    def beam_positions(self, state: State) -> np.ndarray:
+        """All ranks: (global nodes, 9) current [x0, g1, g2] from a state."""
+        return self.mesh.X_global + self._gather_beam(state.u["beam"])
+
+    def beam_global_dofs(self, state: State) -> np.ndarray:
+        """All ranks: global system index of every beam unknown (9 per
+        global node), -1 where constrained at the state's load factor."""
+        mesh = self.mesh
+        nodes = np.arange(mesh.num_nodes_global)
+        owners = np.searchsorted(mesh.bounds, nodes, side="right") - 1
+        dofs = self.layout.global_dofs("beam", nodes, owners)
+        keys = [k for k in self._fixed]
+        if keys:
+            k = np.array(keys, dtype=np.int64)
+            dofs[k[:, 0], k[:, 1]] = -1
+        return dofs.astype(np.int32).ravel()
 
     def nodal_unknowns(self) -> np.ndarray:
         """Current (global nodes, 9) values [x0, g1, g2] (positions, not

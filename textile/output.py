@@ -80,7 +80,8 @@ class Output:
                               attempts=record.attempts, wall_time=record.wall_time,
                               final_residual=record.residual_norms[-1] if record.residual_norms
                               else 0.0,
-                              energy=record.energy, **extra))
+                              energy=record.energy, updates=record.updates,
+                              **record.effects, **extra))
 
     def _segment_fields(self, model) -> dict | None:
         """Element fields mapped to polyline segments (an element of order p

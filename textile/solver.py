@@ -50,6 +50,10 @@ class SolverOptions:
         norm mixes forces on positions and on section vectors, which misleads
         norm-decrease searches such as "bt" on these beams; failed steps are
         cut instead.
+    max_updates:
+        Newton solves per step while effects update what Newton holds fixed
+        (contact elements, normals, penalties); a step still changing after
+        that many is cut.
     predictor:
         Initial guess of a step: "secant" extrapolates the last converged
         increment (fewer Newton iterations on smooth paths), "none" starts
@@ -76,6 +80,7 @@ class SolverOptions:
     max_it: int = 25
     line_search: str = "basic"
     predictor: str = "secant"
+    max_updates: int = 20
     linear_solver: str = "mumps"
     petsc_options: dict = field(default_factory=dict)
     verbose: bool = True
@@ -118,6 +123,8 @@ class StepRecord:
     wall_time: float
     converged_reason: int
     energy: float
+    updates: int = 1
+    effects: dict = field(default_factory=dict)
 
 
 class Solver:
@@ -188,27 +195,42 @@ class Solver:
         if self.options.verbose and self.comm.rank == 0:
             print(msg, flush=True)
 
-    def step_to(self, t: float) -> tuple[bool, int, list, int]:
-        """One Newton solve at load factor t from the current state (plus
-        the predictor's extrapolation)."""
-        m = self.model
+    def step_to(self, t: float) -> tuple[bool, int, list, int, int]:
+        """One load-step attempt at load factor t from the current state:
+        predictor, then Newton (loop 3) repeated while an effect updates what
+        Newton held fixed (loops 1-2: contact elements, normals, penalties).
+        Returns (converged, Newton iterations, residual history, SNES reason,
+        outer iterations)."""
+        m, o = self.model, self.options
         prev = self._previous
-        if self.options.predictor == "secant" and prev is not None and prev[0] < m.load_factor:
+        if o.predictor == "secant" and prev is not None and prev[0] < m.load_factor:
             t_prev, x_prev = prev
             # x += (t - t_n) / (t_n - t_prev) * (x_n - x_prev)
             m.x.axpy((t - m.load_factor) / (m.load_factor - t_prev), m.x - x_prev)
         m.load_factor = t
         m.apply_constraints(m.x)
+        total, hist, reason = 0, [], 0
         try:
-            self.snes.solve(None, m.x)
-        except PETSc.Error as e:  # an exception raised inside a callback
-            self._log(f"    SNES error at t={t:.6g}: {e}")
-            return False, self.snes.getIterationNumber(), [], -100
-        reason = self.snes.getConvergedReason()
-        its = self.snes.getIterationNumber()
-        hist = [float(r) for r in self.snes.getConvergenceHistory()[0][: its + 1]]
-        ok = reason > 0 and np.isfinite(m.x.norm())
-        return ok, its, hist, reason
+            for e in m.effects:
+                e.prepare(m)
+            for outer in range(1, o.max_updates + 1):
+                self.snes.solve(None, m.x)
+                reason = self.snes.getConvergedReason()
+                its = self.snes.getIterationNumber()
+                total += its
+                hist += [float(r) for r in self.snes.getConvergenceHistory()[0][: its + 1]]
+                if reason <= 0 or not np.isfinite(m.x.norm()):
+                    return False, total, hist, reason, outer
+                changed = [e.update(m) for e in m.effects]
+                if not self.comm.allreduce(any(changed)):
+                    return True, total, hist, reason, outer
+            self._log(f"    effects still changing after {o.max_updates} updates at t={t:.6g}")
+            return False, total, hist, -200, o.max_updates
+        except (PETSc.Error, RuntimeError, ValueError) as e:
+            # an exception inside a callback or a kernel (e.g. a degenerate
+            # geometry): the attempt fails and the step is cut
+            self._log(f"    error at t={t:.6g}: {e}")
+            return False, total, hist, -100, 0
 
     def solve(self, t_end: float = 1.0) -> list[StepRecord]:
         """Advance from the current load factor to ``t_end`` (default 1)."""
@@ -222,11 +244,13 @@ class Solver:
         while t < t_end - 1e-14:
             step = min(dt, t_end - t)
             t0 = time.perf_counter()
-            ok, its, hist, reason = self.step_to(t + step)
+            ok, its, hist, reason, outer = self.step_to(t + step)
             attempts += 1
             if not ok:
                 x_saved.copy(m.x)
                 m.load_factor = t
+                for e in m.effects:
+                    e.restore(m)
                 dt = step * o.cut
                 self._log(f"  step to t={t + step:.6g} failed (reason {reason}, {its} its): "
                           f"cutting to dt={dt:.3g}")
@@ -238,12 +262,17 @@ class Solver:
                         self.output.failure(msg)
                     raise ConvergenceError(msg)
                 continue
+            for e in m.effects:
+                e.commit(m)
             self._previous = (t, x_saved.copy())
             t += step
             m.x.copy(x_saved)
+            stats = {}
+            for e in m.effects:
+                stats.update(e.statistics())
             rec = StepRecord(len(self.history) + 1, t, its, attempts, hist,
                              time.perf_counter() - t0, reason,
-                             self.comm.allreduce(m.beam.energy))
+                             self.comm.allreduce(m.beam.energy), outer, stats)
             self.history.append(rec)
             attempts = 0
             self._log(f"step {rec.step:3d}  t={t:.4f}  newton={its:2d}  "

@@ -42,6 +42,9 @@ class Effect:
 
     #: Field names the effect couples (rows and columns).
     fields: tuple[str, ...] = ()
+    #: True if the effect's couplings change during a run (contact): the
+    #: matrix then accepts entries outside the initial sparsity pattern.
+    dynamic_sparsity: bool = False
 
     def add_fields(self, model) -> list:
         """New fields this effect brings (e.g. the matrix's function space)."""
@@ -63,6 +66,28 @@ class Effect:
 
     def jacobian(self, state: State, A: PETSc.Mat) -> None:
         """Add the tangent into A using ``state.dofs`` (local numbering)."""
+
+    def residual_global(self, state: State, b: PETSc.Vec) -> bool:
+        """Add residual entries by *global* index (``b.setValues`` with ADD),
+        for couplings between unknowns that are not all local on this rank.
+        Return True if anything was added (the model then assembles b)."""
+        return False
+
+    # -- load-step protocol (METHOD.md section 4) ------------------------
+    def prepare(self, model) -> None:
+        """Start of a load-step attempt, at the predicted state: set up what
+        Newton holds fixed (e.g. contact elements and normals)."""
+
+    def update(self, model) -> bool:
+        """After a converged Newton solve: update what Newton held fixed;
+        True if it changed enough that Newton must run again."""
+        return False
+
+    def commit(self, model) -> None:
+        """The step is accepted: move history forward (e.g. stick points)."""
+
+    def restore(self, model) -> None:
+        """The step attempt failed: return to the state of the last commit."""
 
     def statistics(self) -> dict:
         """Scalars worth logging per step (merged into results.json)."""
