@@ -143,6 +143,8 @@ class Model:
             self.A.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
         self.x = self.layout.create_vector()
         self.b = self.layout.create_vector()
+        # global-index contributions skip constrained dofs (index -1)
+        self.b.setOption(PETSc.Vec.Option.IGNORE_NEGATIVE_INDICES, True)
         self._setup_constraints()
         self._ready = True
 

@@ -6,6 +6,8 @@
 #include "../textile/junction/point_tie.h"
 #include "../textile/loads/end_moment.h"
 
+#include "bindings.h"
+
 #include <caster_petsc.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -18,15 +20,6 @@ using namespace textile;
 
 namespace
 {
-template <typename T>
-using carray = py::array_t<T, py::array::c_style | py::array::forcecast>;
-
-template <typename T>
-std::span<const T> cspan(const carray<T>& a)
-{
-  return std::span<const T>(a.data(), a.size());
-}
-
 /// Writable span over a numpy array that must already be contiguous and of
 /// the right dtype (no silent copy: results would be lost).
 template <typename T>
@@ -196,4 +189,6 @@ PYBIND11_MODULE(_cpp, m)
       [](Mat A, const carray<std::int32_t>& rows, double value)
       { assembly::add_diagonal(A, cspan(rows), value); },
       py::arg("A"), py::arg("rows"), py::arg("value"), "A[i, i] += value for i in rows (local)");
+
+  declare_contact(m);
 }

@@ -1,4 +1,5 @@
 #include "beam_element.h"
+#include "shape_functions.h"
 
 #include <array>
 #include <cmath>
@@ -12,19 +13,16 @@ namespace
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 
-/// Lagrange shape functions and their derivatives at xi on [-1, 1].
+/// Shape functions of an N-node element at xi (see shape_functions.h).
 template <int N>
 void shape(double xi, std::array<double, N>& n, std::array<double, N>& dn)
 {
-  if constexpr (N == 2)
+  std::array<double, 3> n3, dn3;
+  lagrange(N, xi, n3, dn3);
+  for (int a = 0; a < N; ++a)
   {
-    n = {0.5 * (1.0 - xi), 0.5 * (1.0 + xi)};
-    dn = {-0.5, 0.5};
-  }
-  else
-  {
-    n = {0.5 * xi * (xi - 1.0), 1.0 - xi * xi, 0.5 * xi * (xi + 1.0)};
-    dn = {xi - 0.5, -2.0 * xi, xi + 0.5};
+    n[a] = n3[a];
+    dn[a] = dn3[a];
   }
 }
 

@@ -119,27 +119,90 @@ std::vector<std::pair<int, int>> find_candidate_pairs(std::span<const Segment> s
   while (bin(h) > 16.0 * static_cast<double>(n) + 1024.0)
     h *= 2.0;
 
-  std::vector<std::pair<std::uint64_t, int>> entries;
+  // Dense cell ids through an open-addressing hash table, then a stable
+  // counting sort of (cell, segment) entries: linear, and each cell lists
+  // its segments in increasing order.
+  std::size_t num_entries = 0;
+  for (std::size_t s = 0; s < n; ++s)
+    num_entries += static_cast<std::size_t>((cells[s][3] - cells[s][0] + 1)
+                                            * (cells[s][4] - cells[s][1] + 1)
+                                            * (cells[s][5] - cells[s][2] + 1));
+  constexpr std::uint64_t empty = std::numeric_limits<std::uint64_t>::max();
+  int bits = 4;
+  while ((std::size_t{1} << bits) < 2 * n)
+    ++bits;
+  std::vector<std::uint64_t> slot_key(std::size_t{1} << bits, empty);
+  std::vector<int> slot_cell(slot_key.size());
+  std::vector<std::uint64_t> cell_key;
+  std::vector<int> entry_cell;
+  entry_cell.reserve(num_entries);
+  // Fibonacci hashing: the high bits of the product mix all three indices.
+  auto home = [&](std::uint64_t key) { return (key * 0x9E3779B97F4A7C15ull) >> (64 - bits); };
+  auto cell_id = [&](std::uint64_t key)
+  {
+    const std::size_t mask = slot_key.size() - 1;
+    std::size_t slot = home(key);
+    while (slot_key[slot] != empty && slot_key[slot] != key)
+      slot = (slot + 1) & mask;
+    if (slot_key[slot] == key)
+      return slot_cell[slot];
+    if (2 * (cell_key.size() + 1) > slot_key.size()) // keep the load below 1/2
+    {
+      ++bits;
+      slot_key.assign(std::size_t{1} << bits, empty);
+      slot_cell.resize(slot_key.size());
+      for (std::size_t c = 0; c < cell_key.size(); ++c)
+      {
+        std::size_t t = home(cell_key[c]);
+        while (slot_key[t] != empty)
+          t = (t + 1) & (slot_key.size() - 1);
+        slot_key[t] = cell_key[c];
+        slot_cell[t] = static_cast<int>(c);
+      }
+      slot = home(key);
+      while (slot_key[slot] != empty)
+        slot = (slot + 1) & (slot_key.size() - 1);
+    }
+    slot_key[slot] = key;
+    slot_cell[slot] = static_cast<int>(cell_key.size());
+    cell_key.push_back(key);
+    return slot_cell[slot];
+  };
   for (std::size_t s = 0; s < n; ++s)
     for (std::int64_t i = cells[s][0]; i <= cells[s][3]; ++i)
       for (std::int64_t j = cells[s][1]; j <= cells[s][4]; ++j)
         for (std::int64_t k = cells[s][2]; k <= cells[s][5]; ++k)
-          entries.emplace_back(pack(i, j, k), static_cast<int>(s));
-  std::sort(entries.begin(), entries.end());
-
-  std::vector<std::pair<int, int>> pairs;
-  for (std::size_t begin = 0; begin < entries.size();)
+          entry_cell.push_back(cell_id(pack(i, j, k)));
+  const std::size_t num_cells = cell_key.size();
+  std::vector<std::size_t> cell_start(num_cells + 1, 0);
+  for (const int c : entry_cell)
+    ++cell_start[c + 1];
+  for (std::size_t c = 0; c < num_cells; ++c)
+    cell_start[c + 1] += cell_start[c];
+  std::vector<int> cell_segments(num_entries);
   {
-    std::size_t end = begin + 1;
-    while (end < entries.size() && entries[end].first == entries[begin].first)
-      ++end;
-    const std::uint64_t key = entries[begin].first;
-    for (std::size_t p = begin; p < end; ++p)
+    std::vector<std::size_t> fill(cell_start.begin(), cell_start.end() - 1);
+    std::size_t e = 0;
+    for (std::size_t s = 0; s < n; ++s)
     {
-      const int a = entries[p].second;
-      for (std::size_t q = p + 1; q < end; ++q)
+      const std::size_t count = static_cast<std::size_t>((cells[s][3] - cells[s][0] + 1)
+                                                         * (cells[s][4] - cells[s][1] + 1)
+                                                         * (cells[s][5] - cells[s][2] + 1));
+      for (std::size_t m = 0; m < count; ++m, ++e)
+        cell_segments[fill[entry_cell[e]]++] = static_cast<int>(s);
+    }
+  }
+
+  std::vector<std::pair<int, int>> found;
+  for (std::size_t c = 0; c < num_cells; ++c)
+  {
+    const std::uint64_t key = cell_key[c];
+    for (std::size_t p = cell_start[c]; p < cell_start[c + 1]; ++p)
+    {
+      const int a = cell_segments[p];
+      for (std::size_t q = p + 1; q < cell_start[c + 1]; ++q)
       {
-        const int b = entries[q].second; // b > a: entries are sorted by segment within a cell
+        const int b = cell_segments[q]; // b > a: the counting sort is stable
         if (!overlap(box[a], box[b]))
           continue;
         // Report a pair only in the cell holding the low corner of the two
@@ -149,12 +212,26 @@ std::vector<std::pair<int, int>> find_candidate_pairs(std::span<const Segment> s
                                        std::max(cells[a][2], cells[b][2]));
         if (low != key || self_excluded(segments[a], segments[b], self_exclusion))
           continue;
-        pairs.emplace_back(a, b);
+        found.emplace_back(a, b);
       }
     }
-    begin = end;
   }
-  std::sort(pairs.begin(), pairs.end());
+
+  // Deterministic order (i, j) in linear time: bucket by i, then sort each
+  // bucket's few j.
+  std::vector<std::size_t> first(n + 1, 0);
+  for (const auto& [a, b] : found)
+    ++first[a + 1];
+  for (std::size_t s = 0; s < n; ++s)
+    first[s + 1] += first[s];
+  std::vector<std::pair<int, int>> pairs(found.size());
+  {
+    std::vector<std::size_t> fill(first.begin(), first.end() - 1);
+    for (const auto& pr : found)
+      pairs[fill[pr.first]++] = pr;
+  }
+  for (std::size_t s = 0; s < n; ++s)
+    std::sort(pairs.begin() + first[s], pairs.begin() + first[s + 1]);
   return pairs;
 }
 

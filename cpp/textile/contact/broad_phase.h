@@ -8,8 +8,9 @@
 // overlap, which every pair closer than reach_i + reach_j satisfies. Boxes
 // are binned into cubic cells whose size is the median largest extent of
 // the inflated boxes, so a typical box touches O(1) cells and a cell holds
-// O(1) boxes at bounded density: the cost is O(segments + candidate pairs)
-// plus the sorts that make the output deterministic, never O(n^2).
+// O(1) boxes at bounded density. Cells are found through a hash table and
+// filled by a counting sort, and the output is ordered by bucketing, so the
+// expected cost is O(segments + candidate pairs), never O(n^2).
 #pragma once
 
 #include "centreline.h"

@@ -1,27 +1,15 @@
 #include "contact_element.h"
+#include "../beam/shape_functions.h"
 
 #include <array>
 #include <stdexcept>
 
 namespace textile::contact
 {
-namespace
-{
-void shape(int nn, double xi, std::array<double, 3>& n)
-{
-  if (nn == 2)
-    n = {0.5 * (1.0 - xi), 0.5 * (1.0 + xi), 0.0};
-  else if (nn == 3)
-    n = {0.5 * xi * (xi - 1.0), 1.0 - xi * xi, 0.5 * xi * (xi + 1.0)};
-  else
-    throw std::invalid_argument("contact particle: num_nodes must be 2 or 3");
-}
-} // namespace
-
 std::vector<double> particle_coefficients(const Particle& p)
 {
-  std::array<double, 3> n;
-  shape(p.num_nodes, p.xi, n);
+  std::array<double, 3> n, dn;
+  beam::lagrange(p.num_nodes, p.xi, n, dn);
   std::vector<double> c(3 * p.num_nodes);
   for (int a = 0; a < p.num_nodes; ++a)
   {

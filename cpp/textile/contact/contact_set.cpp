@@ -1,0 +1,120 @@
+#include "contact_set.h"
+#include "regularized_penalty.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace textile::contact
+{
+namespace
+{
+void check(PetscErrorCode ierr, const char* what)
+{
+  if (ierr != 0)
+    throw std::runtime_error(std::string(what) + " failed with PETSc error "
+                             + std::to_string(ierr));
+}
+
+/// Global dof indices of the element pair, [element i, element j].
+std::vector<std::int32_t> element_dofs(const ContactElementState& e,
+                                       std::span<const std::int32_t> dofs)
+{
+  std::vector<std::int32_t> idx;
+  for (const auto* nodes : {&e.nodes_i, &e.nodes_j})
+  {
+    const int nn = (nodes == &e.nodes_i ? e.particle_i : e.particle_j).num_nodes;
+    for (int a = 0; a < nn; ++a)
+      for (int k = 0; k < 9; ++k)
+        idx.push_back(dofs[9 * (*nodes)[a] + k]);
+  }
+  return idx;
+}
+} // namespace
+
+void ContactSet::gather(const ContactElementState& e, std::span<const double> q,
+                        std::vector<double>& xi, std::vector<double>& xj) const
+{
+  xi.clear();
+  xj.clear();
+  for (int a = 0; a < e.particle_i.num_nodes; ++a)
+    for (int k = 0; k < 9; ++k)
+      xi.push_back(q[9 * e.nodes_i[a] + k]);
+  for (int a = 0; a < e.particle_j.num_nodes; ++a)
+    for (int k = 0; k < 9; ++k)
+      xj.push_back(q[9 * e.nodes_j[a] + k]);
+}
+
+void ContactSet::evaluate(std::span<const double> q)
+{
+  std::vector<double> xi, xj, r;
+  for (auto& e : elements)
+  {
+    gather(e, q, xi, xj);
+    r.assign(xi.size() + xj.size(), 0.0);
+    const RegularizedPenalty law(e.penalty, e.regularization);
+    e.result = contact_element(e.particle_i, e.particle_j, e.normal, law,
+                               e.friction.mu > 0 ? &e.friction : nullptr, e.stick, xi, xj, r, {});
+  }
+}
+
+void ContactSet::assemble_vector(std::span<const double> q, std::span<const std::int32_t> dofs,
+                                 Vec b)
+{
+  std::vector<double> xi, xj, r;
+  for (auto& e : elements)
+  {
+    gather(e, q, xi, xj);
+    r.assign(xi.size() + xj.size(), 0.0);
+    const RegularizedPenalty law(e.penalty, e.regularization);
+    e.result = contact_element(e.particle_i, e.particle_j, e.normal, law,
+                               e.friction.mu > 0 ? &e.friction : nullptr, e.stick, xi, xj, r, {});
+    if (e.result.normal_force == 0)
+      continue; // open: nothing to add
+    const auto idx = element_dofs(e, dofs);
+    check(VecSetValues(b, static_cast<PetscInt>(idx.size()), idx.data(), r.data(), ADD_VALUES),
+          "VecSetValues");
+  }
+}
+
+void ContactSet::assemble_matrix(std::span<const double> q, std::span<const std::int32_t> dofs,
+                                 Mat A) const
+{
+  std::vector<double> xi, xj, r, K;
+  for (const auto& e : elements)
+  {
+    gather(e, q, xi, xj);
+    const std::size_t n = xi.size() + xj.size();
+    r.assign(n, 0.0);
+    K.assign(n * n, 0.0);
+    const RegularizedPenalty law(e.penalty, e.regularization);
+    const auto res = contact_element(e.particle_i, e.particle_j, e.normal, law,
+                                     e.friction.mu > 0 ? &e.friction : nullptr, e.stick, xi, xj,
+                                     r, K);
+    if (res.normal_force == 0 and law.stiffness(res.gap) == 0)
+      continue;
+    const auto idx = element_dofs(e, dofs);
+    check(MatSetValues(A, static_cast<PetscInt>(n), idx.data(), static_cast<PetscInt>(n),
+                       idx.data(), K.data(), ADD_VALUES),
+          "MatSetValues");
+  }
+}
+
+Eigen::Vector3d ContactSet::elastic_slip(const ContactElementState& e) const
+{
+  const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - e.normal * e.normal.transpose();
+  return P * (e.result.delta - e.stick);
+}
+
+void ContactSet::commit()
+{
+  for (auto& e : elements)
+  {
+    if (e.friction.mu <= 0)
+      continue;
+    if (e.result.normal_force > 0)
+      e.stick = updated_stick(e.normal, e.friction, e.result.delta, e.stick);
+    else
+      e.stick = e.result.delta; // open: sliding starts from where contact begins
+  }
+}
+} // namespace textile::contact

@@ -1,0 +1,71 @@
+// The contact elements of a load step and their assembly into PETSc.
+#pragma once
+
+#include "contact_element.h"
+#include "regularized_coulomb.h"
+
+#include <petscmat.h>
+#include <petscvec.h>
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace textile::contact
+{
+
+/// One contact element with everything held fixed during a Newton solve
+/// (particles, normal, penalty) and its friction history (stick point).
+struct ContactElementState
+{
+  int fibre_i = 0, fibre_j = 0;  ///< fibres of the two particles
+  double s_i = 0, s_j = 0;       ///< their abscissas (element coordinates)
+  int zone = 0;                  ///< proximity zone of this pass
+  std::array<std::int64_t, 3> nodes_i{-1, -1, -1}; ///< global nodes of the element on fibre i
+  std::array<std::int64_t, 3> nodes_j{-1, -1, -1}; ///< and on fibre j
+  Particle particle_i, particle_j;
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(); ///< from j towards i
+  double penalty = 0;        ///< k_c (force/length)
+  double regularization = 0; ///< g_r (length)
+  RegularizedCoulomb friction{0.0, 1.0};
+  Eigen::Vector3d stick = Eigen::Vector3d::Zero(); ///< Delta at the stick point
+  // last evaluation
+  ContactResult result;
+};
+
+/// A set of contact elements evaluated together.
+///
+/// Unknowns are addressed globally: q holds the current [x0, g1, g2] of
+/// every fibre node (9 per global node), dofs the global index in the PETSc
+/// system of each of those unknowns (-1 where constrained). Each rank
+/// evaluates the elements it was given; insertion uses global indices, so
+/// an element may touch nodes owned by other ranks.
+class ContactSet
+{
+public:
+  std::vector<ContactElementState> elements;
+
+  /// b[dofs] += contact residual; updates each element's result.
+  void assemble_vector(std::span<const double> q, std::span<const std::int32_t> dofs, Vec b);
+
+  /// A[dofs, dofs] += contact tangent.
+  void assemble_matrix(std::span<const double> q, std::span<const std::int32_t> dofs,
+                       Mat A) const;
+
+  /// Evaluate every element at q (results only, no assembly).
+  void evaluate(std::span<const double> q);
+
+  /// After a converged step: move the stick points of slipping elements.
+  void commit();
+
+  /// Elastic tangential slip P (Delta - stick) of element e at its last
+  /// evaluation: the friction history carried to a re-detected element.
+  Eigen::Vector3d elastic_slip(const ContactElementState& e) const;
+
+private:
+  void gather(const ContactElementState& e, std::span<const double> q, std::vector<double>& xi,
+              std::vector<double>& xj) const;
+};
+
+} // namespace textile::contact

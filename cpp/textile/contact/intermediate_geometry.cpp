@@ -1,0 +1,198 @@
+#include "intermediate_geometry.h"
+#include "../beam/shape_functions.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <tuple>
+
+namespace textile::contact
+{
+namespace
+{
+/// Abscissa on fibre i / j at intermediate parameter s.
+double along(double a, double b, double s) { return (1.0 - s) * a + s * b; }
+
+Eigen::Vector3d unit_tangent(const Centrelines& c, int f, double s)
+{
+  return c.tangent(f, s).normalized();
+}
+
+/// Mean of two unit tangents, the second flipped if the fibres run in
+/// opposite directions (the intermediate geometry has no orientation).
+Eigen::Vector3d mean_tangent(const Eigen::Vector3d& ti, const Eigen::Vector3d& tj)
+{
+  const Eigen::Vector3d t = ti + (ti.dot(tj) >= 0 ? tj : Eigen::Vector3d(-tj));
+  return t.normalized();
+}
+
+Eigen::Vector3d intermediate_point(const Centrelines& c, const ProximityZone& z, double s)
+{
+  return 0.5 * (c.position(z.fibre_i, along(z.a_i, z.b_i, s))
+                + c.position(z.fibre_j, along(z.a_j, z.b_j, s)));
+}
+} // namespace
+
+double element_of(const Centrelines& c, int f, double s, std::array<std::int64_t, 3>& nodes)
+{
+  const int ne = c.num_elements(f);
+  if (!(s >= 0.0 and s <= ne))
+    throw std::invalid_argument("element_of: abscissa outside the fibre");
+  const int e = std::min(static_cast<int>(std::floor(s)), ne - 1);
+  nodes = {-1, -1, -1};
+  for (int a = 0; a <= c.order; ++a)
+    nodes[a] = c.fibre_offsets[f] + c.order * e + a;
+  return 2.0 * (s - e) - 1.0;
+}
+
+std::pair<Eigen::Vector3d, Eigen::Vector3d> SectionVectors::at(const Centrelines& c, int f,
+                                                               double s) const
+{
+  std::array<std::int64_t, 3> nodes;
+  const double xi = element_of(c, f, s, nodes);
+  std::array<double, 3> n, dn;
+  beam::lagrange(c.order + 1, xi, n, dn);
+  Eigen::Vector3d g1 = Eigen::Vector3d::Zero(), g2 = Eigen::Vector3d::Zero();
+  for (int a = 0; a <= c.order; ++a)
+  {
+    const std::size_t k = 6 * nodes[a];
+    g1 += n[a] * Eigen::Map<const Eigen::Vector3d>(g.data() + k);
+    g2 += n[a] * Eigen::Map<const Eigen::Vector3d>(g.data() + k + 3);
+  }
+  return {g1, g2};
+}
+
+double intermediate_length(const Centrelines& c, const ProximityZone& z, int samples)
+{
+  double length = 0;
+  Eigen::Vector3d prev = intermediate_point(c, z, 0.0);
+  for (int k = 1; k < samples; ++k)
+  {
+    const Eigen::Vector3d p = intermediate_point(c, z, double(k) / (samples - 1));
+    length += (p - prev).norm();
+    prev = p;
+  }
+  return length;
+}
+
+double section_cut(const Centrelines& c, int f, const Eigen::Vector3d& point,
+                   const Eigen::Vector3d& normal, double guess)
+{
+  const double lo = 0.0, hi = c.num_elements(f);
+  double s = std::clamp(guess, lo, hi);
+  // Newton on phi(s) = (x0(s) - point) . normal; the centre line crosses
+  // the plane once near the guess for any sensible zone
+  for (int it = 0; it < 30; ++it)
+  {
+    const double phi = (c.position(f, s) - point).dot(normal);
+    const double dphi = c.tangent(f, s).dot(normal);
+    if (std::abs(dphi) < 1e-14 * c.tangent(f, s).norm())
+      break; // tangent in the plane: keep the guess
+    const double next = std::clamp(s - phi / dphi, lo, hi);
+    if (std::abs(next - s) < 1e-13)
+    {
+      s = next;
+      break;
+    }
+    s = next;
+  }
+  return s;
+}
+
+Eigen::Vector2d border_particle(const Eigen::Vector3d& g1, const Eigen::Vector3d& g2, double R,
+                                const Eigen::Vector3d& d)
+{
+  // least squares [g1 g2] c = d: the projection of d on the section plane
+  // in section coordinates (exact for deformed, non-orthogonal sections)
+  Eigen::Matrix2d G;
+  G << g1.dot(g1), g1.dot(g2), g1.dot(g2), g2.dot(g2);
+  const Eigen::Vector2d rhs(g1.dot(d), g2.dot(d));
+  Eigen::Vector2d cvec = G.ldlt().solve(rhs);
+  const double n = cvec.norm();
+  if (!(n > 0) or !std::isfinite(n))
+    throw std::runtime_error("border_particle: direction orthogonal to the section plane");
+  return R * cvec / n;
+}
+
+std::pair<double, double> closest_points(const Centrelines& c, int f, double s, int g, double t)
+{
+  const double sf = c.num_elements(f), sg = c.num_elements(g);
+  for (int it = 0; it < 30; ++it)
+  {
+    const Eigen::Vector3d r = c.position(f, s) - c.position(g, t);
+    const Eigen::Vector3d a = c.tangent(f, s), b = -c.tangent(g, t);
+    Eigen::Matrix2d JtJ;
+    JtJ << a.dot(a), a.dot(b), a.dot(b), b.dot(b);
+    const Eigen::Vector2d rhs(-a.dot(r), -b.dot(r));
+    if (std::abs(JtJ.determinant()) <= 1e-12 * JtJ.trace() * JtJ.trace())
+      break; // parallel tangents: no unique closest pair
+    const Eigen::Vector2d d = JtJ.ldlt().solve(rhs);
+    const double s1 = std::clamp(s + d(0), 0.0, sf), t1 = std::clamp(t + d(1), 0.0, sg);
+    const bool done = std::abs(s1 - s) + std::abs(t1 - t) < 1e-13;
+    s = s1;
+    t = t1;
+    if (done)
+      break;
+  }
+  return {s, t};
+}
+
+std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVectors& g,
+                                         const ProximityZone& z, double spacing,
+                                         double parallel_angle, const Eigen::Vector3d& fallback)
+{
+  if (!(spacing > 0) or !std::isfinite(spacing))
+    throw std::invalid_argument("contact_points: spacing must be positive and finite");
+  const Eigen::Vector3d tzi = unit_tangent(c, z.fibre_i, z.s_i);
+  const Eigen::Vector3d tzj = unit_tangent(c, z.fibre_j, z.s_j);
+  const bool crossing = tzi.cross(tzj).norm() > std::sin(parallel_angle);
+  const double length = intermediate_length(c, z);
+  const int nc = crossing ? 1 : std::max(1, static_cast<int>(std::lround(length / spacing)));
+  std::vector<ContactPoint> out;
+  out.reserve(nc);
+  for (int l = 1; l <= nc; ++l)
+  {
+    ContactPoint p;
+    p.fibre_i = z.fibre_i;
+    p.fibre_j = z.fibre_j;
+    p.parameter = double(l) / (nc + 1);
+    if (crossing)
+    {
+      std::tie(p.s_i, p.s_j) = closest_points(c, z.fibre_i, z.s_i, z.fibre_j, z.s_j);
+      p.tangent = mean_tangent(unit_tangent(c, z.fibre_i, p.s_i),
+                               unit_tangent(c, z.fibre_j, p.s_j));
+    }
+    else
+    {
+      const double si0 = along(z.a_i, z.b_i, p.parameter), sj0 = along(z.a_j, z.b_j, p.parameter);
+      const Eigen::Vector3d point = intermediate_point(c, z, p.parameter);
+      p.tangent = mean_tangent(unit_tangent(c, z.fibre_i, si0), unit_tangent(c, z.fibre_j, sj0));
+      p.s_i = section_cut(c, z.fibre_i, point, p.tangent, si0);
+      p.s_j = section_cut(c, z.fibre_j, point, p.tangent, sj0);
+    }
+    p.tangent_i = unit_tangent(c, z.fibre_i, p.s_i);
+    p.tangent_j = unit_tangent(c, z.fibre_j, p.s_j);
+    p.centroid_gap = c.position(z.fibre_i, p.s_i) - c.position(z.fibre_j, p.s_j);
+    // direction from i towards j for particle i, and back for j
+    Eigen::Vector3d d = -p.centroid_gap;
+    if (d.norm() <= 1e-12 * c.radius[z.fibre_i])
+    {
+      d = fallback.norm() > 0 ? Eigen::Vector3d(-fallback)
+                              : Eigen::Vector3d(p.tangent_i.cross(p.tangent_j));
+      if (d.norm() == 0)
+        d = p.tangent.unitOrthogonal();
+    }
+    const auto [g1i, g2i] = g.at(c, z.fibre_i, p.s_i);
+    const auto [g1j, g2j] = g.at(c, z.fibre_j, p.s_j);
+    const Eigen::Vector2d qi = border_particle(g1i, g2i, c.radius[z.fibre_i], d);
+    const Eigen::Vector2d qj = border_particle(g1j, g2j, c.radius[z.fibre_j], -d);
+    p.xi1_i = qi(0);
+    p.xi2_i = qi(1);
+    p.xi1_j = qj(0);
+    p.xi2_j = qj(1);
+    out.push_back(p);
+  }
+  return out;
+}
+
+} // namespace textile::contact

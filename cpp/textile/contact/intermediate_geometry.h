@@ -1,0 +1,91 @@
+// Intermediate geometry of a proximity zone and the contact elements on it
+// (METHOD.md section 2, steps 2-5).
+//
+// For a zone [a_i, b_i] x [a_j, b_j] between fibres i and j,
+//     x_int(s) = 1/2 [x0_i((1-s) a_i + s b_i) + x0_j((1-s) a_j + s b_j)],  s in [0, 1],
+// treats both fibres symmetrically; its tangent is the mean of the two unit
+// tangents. Contact elements sit at c_l = x_int(l / (n_c + 1)), l = 1..n_c.
+// At c_l the plane orthogonal to the intermediate tangent cuts each centre
+// line (abscissas s_i, s_j); the centroid-to-centroid direction, projected
+// on each (deformed) section, meets the section border at the particles.
+#pragma once
+
+#include "centreline.h"
+#include "proximity_zone.h"
+
+#include <Eigen/Dense>
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace textile::contact
+{
+
+/// Nodes of the element containing abscissa s of fibre f (the last element
+/// at s = num_elements), and the local coordinate there: fills
+/// nodes[0..order] with global node numbers and returns xi in [-1, 1].
+double element_of(const Centrelines& c, int f, double s, std::array<std::int64_t, 3>& nodes);
+
+/// Section vectors of all nodes, 6 per node [g1, g2], numbered as the
+/// Centrelines' nodes.
+struct SectionVectors
+{
+  std::span<const double> g;
+  /// Interpolated g1, g2 at abscissa s of fibre f.
+  std::pair<Eigen::Vector3d, Eigen::Vector3d> at(const Centrelines& c, int f, double s) const;
+};
+
+/// One contact element's geometry: where its two particles are.
+struct ContactPoint
+{
+  int fibre_i = 0, fibre_j = 0;
+  double s_i = 0, s_j = 0;             ///< abscissas of the sections
+  double xi1_i = 0, xi2_i = 0;         ///< particle of fibre i (section coordinates, length)
+  double xi1_j = 0, xi2_j = 0;         ///< particle of fibre j
+  double parameter = 0;                ///< position l/(n_c+1) on the intermediate geometry
+  Eigen::Vector3d tangent_i, tangent_j; ///< unit centre-line tangents at s_i, s_j
+  Eigen::Vector3d tangent;             ///< unit intermediate tangent
+  Eigen::Vector3d centroid_gap;        ///< x0_i(s_i) - x0_j(s_j)
+};
+
+/// Length of the intermediate geometry (polyline through `samples` points).
+double intermediate_length(const Centrelines& c, const ProximityZone& z, int samples = 9);
+
+/// Contact elements of a zone.
+///
+/// Near-parallel fibres (angle between the tangents at the zone's closest
+/// points below `parallel_angle`, radians) touch along a line: n_c =
+/// max(1, round(length / spacing)) elements on the intermediate geometry.
+/// Crossing fibres touch at a point: one element at the closest points of
+/// the two centre lines, where the centroid gap is along t_i x t_j (several
+/// elements off the crossing would measure the gap between points on the
+/// sides of the sections and let the fibres through).
+///
+/// @param spacing  target distance between contact elements (length > 0),
+///                 typically the fibre element length or less.
+/// @param fallback direction used to place the particles when the two
+///                 centroids coincide (e.g. the element's previous normal,
+///                 pointing from j to i); zero: t_i x t_j or any normal.
+std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVectors& g,
+                                         const ProximityZone& z, double spacing,
+                                         double parallel_angle,
+                                         const Eigen::Vector3d& fallback = Eigen::Vector3d::Zero());
+
+/// Closest points of the centre lines of fibres f and g near (s, t):
+/// Gauss-Newton on |x_f(s) - x_g(t)|^2, clamped to the fibres.
+std::pair<double, double> closest_points(const Centrelines& c, int f, double s, int g, double t);
+
+/// Abscissa on fibre f where the plane through `point` orthogonal to
+/// `normal` cuts the centre line, searched from `guess` (Newton with
+/// bisection safeguard), clamped to [0, num_elements(f)].
+double section_cut(const Centrelines& c, int f, const Eigen::Vector3d& point,
+                   const Eigen::Vector3d& normal, double guess);
+
+/// Section coordinates (xi1, xi2) of the border point of a section (g1, g2,
+/// radius R) in the direction of d projected on the section plane.
+Eigen::Vector2d border_particle(const Eigen::Vector3d& g1, const Eigen::Vector3d& g2, double R,
+                                const Eigen::Vector3d& d);
+
+} // namespace textile::contact
