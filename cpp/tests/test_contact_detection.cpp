@@ -11,6 +11,7 @@
 #include <numbers>
 #include <random>
 #include <stdexcept>
+#include <string>
 
 using namespace textile::contact;
 using Vec3 = Eigen::Vector3d;

@@ -29,27 +29,59 @@ double point_segment_distance(const Vec3& x, const Vec3& q0, const Vec3& q1)
 
 /// Parameter interval of [p0, p1] whose points are closer than `limit` to
 /// [q0, q1], given a minimiser t_min of that distance. The distance is convex
-/// in t, so the set is one interval around t_min, bounded by bisection.
+/// in t, so the set is one interval around t_min; each end is the root of
+/// the piecewise quadratic f(t) = dist^2 - limit^2 in its bracket, found by
+/// the Illinois (modified regula falsi) method: always bracketed, and
+/// superlinear, so about ten distance evaluations instead of ~50 bisections.
 std::pair<double, double> close_part(const Vec3& p0, const Vec3& p1, const Vec3& q0,
                                      const Vec3& q1, double t_min, double limit)
 {
-  auto g = [&](double t) { return point_segment_distance(p0 + t * (p1 - p0), q0, q1); };
-  if (!(g(t_min) < limit)) // borderline pair: keep the closest point only
-    return {t_min, t_min};
-  auto edge = [&](double inside, double outside)
+  auto f = [&](double t)
   {
-    if (g(outside) < limit)
-      return outside;
-    for (int it = 0; it < 60 && inside != outside; ++it)
-    {
-      const double mid = 0.5 * (inside + outside);
-      if (mid == inside || mid == outside)
-        break;
-      (g(mid) < limit ? inside : outside) = mid;
-    }
-    return inside;
+    const double g = point_segment_distance(p0 + t * (p1 - p0), q0, q1);
+    return g * g - limit * limit;
   };
-  return {edge(t_min, 0.0), edge(t_min, 1.0)};
+  const double f_min = f(t_min);
+  if (!(f_min < 0.0)) // borderline pair: keep the closest point only
+    return {t_min, t_min};
+  auto edge = [&](double outside)
+  {
+    const double f_out = f(outside);
+    if (f_out < 0.0)
+      return outside;
+    double in = t_min, out = outside;
+    double fi = f_min, fo = f_out;           // weights of the secant (Illinois-scaled)
+    double fi_true = f_min, fo_true = f_out; // function values at in, out
+    int side = 0;
+    for (int it = 0; it < 100 && std::abs(out - in) > 1e-15; ++it)
+    {
+      double t = (in * fo - out * fi) / (fo - fi);
+      if (!(t > std::min(in, out) && t < std::max(in, out)))
+        t = 0.5 * (in + out);
+      const double ft = f(t);
+      if (ft < 0.0)
+      {
+        in = t;
+        fi = fi_true = ft;
+        if (side == -1)
+          fo *= 0.5;
+        side = -1;
+      }
+      else
+      {
+        out = t;
+        fo = fo_true = ft;
+        if (ft == 0.0)
+          break;
+        if (side == 1)
+          fi *= 0.5;
+        side = 1;
+      }
+    }
+    // the end nearer the root (regula falsi may keep one end far behind)
+    return std::abs(fi_true) <= std::abs(fo_true) ? in : out;
+  };
+  return {edge(0.0), edge(1.0)};
 }
 
 void check_parameters(double delta_factor, double self_exclusion)

@@ -11,7 +11,8 @@
 //     parameter interval where the distance from the chord's point to the
 //     other chord is below the same criterion, is computed (the distance
 //     from a moving point to a fixed segment is convex in the parameter, so
-//     that set is one interval, found by bisection);
+//     that set is one interval; its ends are found to round-off by a
+//     bracketed secant method);
 //  3. grouping: per fibre pair, close pairs whose segments are equal or
 //     adjacent on BOTH fibres belong to the same zone (connected components
 //     of the close cells in the (s_i, s_j) plane: a connected close region
