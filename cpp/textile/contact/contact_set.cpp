@@ -44,30 +44,44 @@ void ContactSet::gather(const ContactElementState& e, std::span<const double> q,
       xj.push_back(q[9 * e.nodes_j[a] + k]);
 }
 
+ContactResult ContactSet::element(const ContactElementState& e, std::span<const double> q,
+                                  std::vector<double>& r, std::vector<double>* K) const
+{
+  std::vector<double> xi, xj;
+  gather(e, q, xi, xj);
+  const std::size_t n = xi.size() + xj.size();
+  r.assign(n, 0.0);
+  if (K)
+    K->assign(n * n, 0.0);
+  const RegularizedPenalty law(e.penalty, e.regularization);
+  ContactResult res = contact_element(e.particle_i, e.particle_j, e.normal, law,
+                                      e.friction.mu > 0 ? &e.friction : nullptr, e.stick, xi, xj,
+                                      r, K ? std::span<double>(*K) : std::span<double>());
+  // a line-contact element stands for `weight` units of length
+  for (double& v : r)
+    v *= e.weight;
+  if (K)
+    for (double& v : *K)
+      v *= e.weight;
+  res.normal_force *= e.weight;
+  res.tangential_force *= e.weight;
+  return res;
+}
+
 void ContactSet::evaluate(std::span<const double> q)
 {
-  std::vector<double> xi, xj, r;
+  std::vector<double> r;
   for (auto& e : elements)
-  {
-    gather(e, q, xi, xj);
-    r.assign(xi.size() + xj.size(), 0.0);
-    const RegularizedPenalty law(e.penalty, e.regularization);
-    e.result = contact_element(e.particle_i, e.particle_j, e.normal, law,
-                               e.friction.mu > 0 ? &e.friction : nullptr, e.stick, xi, xj, r, {});
-  }
+    e.result = element(e, q, r, nullptr);
 }
 
 void ContactSet::assemble_vector(std::span<const double> q, std::span<const std::int32_t> dofs,
                                  Vec b)
 {
-  std::vector<double> xi, xj, r;
+  std::vector<double> r;
   for (auto& e : elements)
   {
-    gather(e, q, xi, xj);
-    r.assign(xi.size() + xj.size(), 0.0);
-    const RegularizedPenalty law(e.penalty, e.regularization);
-    e.result = contact_element(e.particle_i, e.particle_j, e.normal, law,
-                               e.friction.mu > 0 ? &e.friction : nullptr, e.stick, xi, xj, r, {});
+    e.result = element(e, q, r, nullptr);
     if (e.result.normal_force == 0)
       continue; // open: nothing to add
     const auto idx = element_dofs(e, dofs);
@@ -79,18 +93,12 @@ void ContactSet::assemble_vector(std::span<const double> q, std::span<const std:
 void ContactSet::assemble_matrix(std::span<const double> q, std::span<const std::int32_t> dofs,
                                  Mat A) const
 {
-  std::vector<double> xi, xj, r, K;
+  std::vector<double> r, K;
   for (const auto& e : elements)
   {
-    gather(e, q, xi, xj);
-    const std::size_t n = xi.size() + xj.size();
-    r.assign(n, 0.0);
-    K.assign(n * n, 0.0);
-    const RegularizedPenalty law(e.penalty, e.regularization);
-    const auto res = contact_element(e.particle_i, e.particle_j, e.normal, law,
-                                     e.friction.mu > 0 ? &e.friction : nullptr, e.stick, xi, xj,
-                                     r, K);
-    if (res.normal_force == 0 and law.stiffness(res.gap) == 0)
+    const auto res = element(e, q, r, &K);
+    const std::size_t n = r.size();
+    if (res.normal_force == 0) // open (R_N = 0 implies dR_N = 0 for this law)
       continue;
     const auto idx = element_dofs(e, dofs);
     check(MatSetValues(A, static_cast<PetscInt>(n), idx.data(), static_cast<PetscInt>(n),

@@ -26,11 +26,12 @@ struct ContactElementState
   std::array<std::int64_t, 3> nodes_j{-1, -1, -1}; ///< and on fibre j
   Particle particle_i, particle_j;
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(); ///< from j towards i
+  double weight = 1;         ///< share of a line contact (element force = weight x R_N)
   double penalty = 0;        ///< k_c (force/length)
   double regularization = 0; ///< g_r (length)
   RegularizedCoulomb friction{0.0, 1.0};
   Eigen::Vector3d stick = Eigen::Vector3d::Zero(); ///< Delta at the stick point
-  // last evaluation
+  // last evaluation (forces already multiplied by the weight)
   ContactResult result;
 };
 
@@ -64,6 +65,9 @@ public:
   Eigen::Vector3d elastic_slip(const ContactElementState& e) const;
 
 private:
+  /// Residual (and tangent if K) of one element, scaled by its weight.
+  ContactResult element(const ContactElementState& e, std::span<const double> q,
+                        std::vector<double>& r, std::vector<double>* K) const;
   void gather(const ContactElementState& e, std::span<const double> q, std::vector<double>& xi,
               std::vector<double>& xj) const;
 };

@@ -10,6 +10,12 @@ namespace textile::contact
 {
 namespace
 {
+/// The 2-point Gauss-Legendre rule on [-1, 1] (weights 1).
+struct GaussLegendre2
+{
+  double x[2] = {-0.5773502691896257645, 0.5773502691896257645};
+};
+
 /// Abscissa on fibre i / j at intermediate parameter s.
 double along(double a, double b, double s) { return (1.0 - s) * a + s * b; }
 
@@ -147,15 +153,53 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
   const Eigen::Vector3d tzj = unit_tangent(c, z.fibre_j, z.s_j);
   const bool crossing = tzi.cross(tzj).norm() > std::sin(parallel_angle);
   const double length = intermediate_length(c, z);
-  const int nc = crossing ? 1 : std::max(1, static_cast<int>(std::lround(length / spacing)));
+  // parameters and weights of the elements on the intermediate geometry
+  std::vector<double> params, weights;
+  if (crossing)
+  {
+    params = {0.5};
+    weights = {1.0};
+  }
+  else
+  {
+    // Line contact: a composite 2-point Gauss rule between the element
+    // boundaries of both fibres (further cut to about `spacing`), weights in
+    // units of `spacing`. Uniform penetration then gives contact nodal
+    // forces equal to the consistent nodal forces of a uniform line load
+    // (the patch test), which collocation at evenly spaced points fails.
+    std::vector<double> cuts = {0.0, 1.0};
+    for (const auto& [a, b] : {std::pair{z.a_i, z.b_i}, std::pair{z.a_j, z.b_j}})
+      if (b - a > 1e-12)
+        for (double k = std::ceil(a); k < b; k += 1.0)
+          if (k > a)
+            cuts.push_back((k - a) / (b - a));
+    std::sort(cuts.begin(), cuts.end());
+    const GaussLegendre2 gl;
+    for (std::size_t k = 0; k + 1 < cuts.size(); ++k)
+    {
+      const double s0 = cuts[k], s1 = cuts[k + 1], ds = s1 - s0;
+      if (ds * length < 1e-9 * spacing)
+        continue;
+      const int parts = std::max(1, static_cast<int>(std::ceil(ds * length / (2.0 * spacing))));
+      for (int m = 0; m < parts; ++m)
+        for (int gpt = 0; gpt < 2; ++gpt)
+        {
+          const double h = ds / parts;
+          params.push_back(s0 + h * (m + 0.5 * (1.0 + gl.x[gpt])));
+          weights.push_back(0.5 * h * length / spacing); // Gauss weights are 1 on [-1, 1]
+        }
+    }
+  }
+  const std::size_t nc = params.size();
   std::vector<ContactPoint> out;
   out.reserve(nc);
-  for (int l = 1; l <= nc; ++l)
+  for (std::size_t l = 0; l < nc; ++l)
   {
     ContactPoint p;
     p.fibre_i = z.fibre_i;
     p.fibre_j = z.fibre_j;
-    p.parameter = double(l) / (nc + 1);
+    p.parameter = params[l];
+    p.weight = weights[l];
     if (crossing)
     {
       std::tie(p.s_i, p.s_j) = closest_points(c, z.fibre_i, z.s_i, z.fibre_j, z.s_j);

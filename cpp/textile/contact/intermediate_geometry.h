@@ -44,7 +44,8 @@ struct ContactPoint
   double s_i = 0, s_j = 0;             ///< abscissas of the sections
   double xi1_i = 0, xi2_i = 0;         ///< particle of fibre i (section coordinates, length)
   double xi1_j = 0, xi2_j = 0;         ///< particle of fibre j
-  double parameter = 0;                ///< position l/(n_c+1) on the intermediate geometry
+  double parameter = 0;                ///< position in [0, 1] on the intermediate geometry
+  double weight = 1;                   ///< share of a line contact, in units of `spacing` (1 for a crossing)
   Eigen::Vector3d tangent_i, tangent_j; ///< unit centre-line tangents at s_i, s_j
   Eigen::Vector3d tangent;             ///< unit intermediate tangent
   Eigen::Vector3d centroid_gap;        ///< x0_i(s_i) - x0_j(s_j)
@@ -56,8 +57,11 @@ double intermediate_length(const Centrelines& c, const ProximityZone& z, int sam
 /// Contact elements of a zone.
 ///
 /// Near-parallel fibres (angle between the tangents at the zone's closest
-/// points below `parallel_angle`, radians) touch along a line: n_c =
-/// max(1, round(length / spacing)) elements on the intermediate geometry.
+/// points below `parallel_angle`, radians) touch along a line: elements at
+/// the points of a composite 2-point Gauss rule on the intermediate
+/// geometry, cut at both fibres' element boundaries and about every
+/// 2 x spacing, each weighted by its share of the length (in units of
+/// spacing): a contact element's force is weight x R_N(gap).
 /// Crossing fibres touch at a point: one element at the closest points of
 /// the two centre lines, where the centroid gap is along t_i x t_j (several
 /// elements off the crossing would measure the gap between points on the
