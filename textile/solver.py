@@ -197,11 +197,20 @@ class Solver:
 
     def step_to(self, t: float) -> tuple[bool, int, list, int, int]:
         """One load-step attempt at load factor t from the current state:
-        predictor, then Newton (loop 3) repeated while an effect updates what
+        effects prepare (at the converged state), predictor, then Newton (loop 3) repeated while an effect updates what
         Newton held fixed (loops 1-2: contact elements, normals, penalties).
         Returns (converged, Newton iterations, residual history, SNES reason,
         outer iterations)."""
         m, o = self.model, self.options
+        try:
+            # at the last converged state: history (e.g. friction stick
+            # points) carries over to re-detected elements without the
+            # step's increment
+            for e in m.effects:
+                e.prepare(m)
+        except (PETSc.Error, RuntimeError, ValueError) as e:
+            self._log(f"    error preparing t={t:.6g}: {e}")
+            return False, 0, [], -100, 0
         prev = self._previous
         if o.predictor == "secant" and prev is not None and prev[0] < m.load_factor:
             t_prev, x_prev = prev
@@ -211,8 +220,6 @@ class Solver:
         m.apply_constraints(m.x)
         total, hist, reason = 0, [], 0
         try:
-            for e in m.effects:
-                e.prepare(m)
             for outer in range(1, o.max_updates + 1):
                 self.snes.solve(None, m.x)
                 reason = self.snes.getConvergedReason()
