@@ -194,6 +194,9 @@ void declare_contact(py::module_& m)
       .def("assemble_matrix",
            [](const ContactSet& self, const carray<double>& q, const carray<std::int32_t>& dofs,
               Mat A) { self.assemble_matrix(cspan(q), cspan(dofs), A); })
+      .def("nodal_forces",
+           [](const ContactSet& self, const carray<double>& q)
+           { return array_of(self.nodal_forces(cspan(q))); })
       .def("commit", &ContactSet::commit)
       .def("data",
            [](const ContactSet& self)

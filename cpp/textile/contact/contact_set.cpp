@@ -75,6 +75,24 @@ void ContactSet::evaluate(std::span<const double> q)
     e.result = element(e, q, r, nullptr);
 }
 
+std::vector<double> ContactSet::nodal_forces(std::span<const double> q) const
+{
+  std::vector<double> out(q.size(), 0.0), r;
+  for (const auto& e : elements)
+  {
+    element(e, q, r, nullptr);
+    std::size_t k = 0;
+    for (const auto* nodes : {&e.nodes_i, &e.nodes_j})
+    {
+      const int nn = (nodes == &e.nodes_i ? e.particle_i : e.particle_j).num_nodes;
+      for (int a = 0; a < nn; ++a)
+        for (int d = 0; d < 9; ++d)
+          out[9 * (*nodes)[a] + d] += r[k++];
+    }
+  }
+  return out;
+}
+
 void ContactSet::assemble_vector(std::span<const double> q, std::span<const std::int32_t> dofs,
                                  Vec b)
 {

@@ -57,6 +57,10 @@ public:
   /// Evaluate every element at q (results only, no assembly).
   void evaluate(std::span<const double> q);
 
+  /// Contact forces on every unknown (9 per global node, like q) at q:
+  /// lets two element sets be compared by what they do to the fibres.
+  std::vector<double> nodal_forces(std::span<const double> q) const;
+
   /// After a converged step: move the stick points of slipping elements.
   void commit();
 

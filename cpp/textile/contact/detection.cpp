@@ -11,7 +11,7 @@ Detection detect(const Centrelines& c, const SectionVectors& g, double delta_fac
   d.zones = find_proximity_zones(c, delta_factor, self_exclusion);
   for (std::size_t z = 0; z < d.zones.size(); ++z)
   {
-    for (auto& p : contact_points(c, g, d.zones[z], spacing, parallel_angle))
+    for (auto& p : contact_points(c, g, d.zones[z], spacing, parallel_angle, delta_factor))
     {
       d.points.push_back(p);
       d.zone_of_point.push_back(static_cast<int>(z));

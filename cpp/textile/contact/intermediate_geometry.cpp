@@ -143,15 +143,32 @@ std::pair<double, double> closest_points(const Centrelines& c, int f, double s, 
   return {s, t};
 }
 
+bool is_crossing(const Centrelines& c, const ProximityZone& z, double parallel_angle,
+                 double delta_factor)
+{
+  const Eigen::Vector3d ti = unit_tangent(c, z.fibre_i, z.s_i);
+  const Eigen::Vector3d tj = unit_tangent(c, z.fibre_j, z.s_j);
+  const double sin_angle = ti.cross(tj).norm();
+  if (sin_angle <= std::sin(parallel_angle))
+    return false;
+  // A crossing zone ends where the centre lines move apart (distance near
+  // the search distance at both ends); fibres that are twisted or wound
+  // together stay close up to a fibre end, whatever their angle.
+  const double delta = delta_factor * (c.radius[z.fibre_i] + c.radius[z.fibre_j]);
+  const double threshold = 0.5 * (z.min_distance + delta);
+  const double d0 = (c.position(z.fibre_i, z.a_i) - c.position(z.fibre_j, z.a_j)).norm();
+  const double d1 = (c.position(z.fibre_i, z.b_i) - c.position(z.fibre_j, z.b_j)).norm();
+  return d0 > threshold and d1 > threshold;
+}
+
 std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVectors& g,
                                          const ProximityZone& z, double spacing,
-                                         double parallel_angle, const Eigen::Vector3d& fallback)
+                                         double parallel_angle, double delta_factor,
+                                         const Eigen::Vector3d& fallback)
 {
   if (!(spacing > 0) or !std::isfinite(spacing))
     throw std::invalid_argument("contact_points: spacing must be positive and finite");
-  const Eigen::Vector3d tzi = unit_tangent(c, z.fibre_i, z.s_i);
-  const Eigen::Vector3d tzj = unit_tangent(c, z.fibre_j, z.s_j);
-  const bool crossing = tzi.cross(tzj).norm() > std::sin(parallel_angle);
+  const bool crossing = is_crossing(c, z, parallel_angle, delta_factor);
   const double length = intermediate_length(c, z);
   // parameters and weights of the elements on the intermediate geometry
   std::vector<double> params, weights;

@@ -54,10 +54,18 @@ struct ContactPoint
 /// Length of the intermediate geometry (polyline through `samples` points).
 double intermediate_length(const Centrelines& c, const ProximityZone& z, int samples = 9);
 
+/// Whether a zone is a crossing (a point contact): the tangents at its
+/// closest points make an angle above `parallel_angle` (radians) AND the
+/// centre lines move apart at both ends of the zone (distance above the
+/// mean of the smallest distance and the search distance delta_factor
+/// (r_i + r_j)). Twisted or wound fibres cross at an angle but stay close
+/// up to a fibre end: they touch along a line.
+bool is_crossing(const Centrelines& c, const ProximityZone& z, double parallel_angle,
+                 double delta_factor);
+
 /// Contact elements of a zone.
 ///
-/// Near-parallel fibres (angle between the tangents at the zone's closest
-/// points below `parallel_angle`, radians) touch along a line: elements at
+/// Line contacts (see is_crossing): elements at
 /// the points of a composite 2-point Gauss rule on the intermediate
 /// geometry, cut at both fibres' element boundaries and about every
 /// 2 x spacing, each weighted by its share of the length (in units of
@@ -74,7 +82,7 @@ double intermediate_length(const Centrelines& c, const ProximityZone& z, int sam
 ///                 pointing from j to i); zero: t_i x t_j or any normal.
 std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVectors& g,
                                          const ProximityZone& z, double spacing,
-                                         double parallel_angle,
+                                         double parallel_angle, double delta_factor,
                                          const Eigen::Vector3d& fallback = Eigen::Vector3d::Zero());
 
 /// Closest points of the centre lines of fibres f and g near (s, t):
