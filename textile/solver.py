@@ -202,14 +202,19 @@ class Solver:
         Returns (converged, Newton iterations, residual history, SNES reason,
         outer iterations)."""
         m, o = self.model, self.options
+        error = None
         try:
             # at the last converged state: history (e.g. friction stick
             # points) carries over to re-detected elements without the
             # step's increment
             for e in m.effects:
                 e.prepare(m)
-        except (PETSc.Error, RuntimeError, ValueError) as e:
-            self._log(f"    error preparing t={t:.6g}: {e}")
+        except (PETSc.Error, RuntimeError, ValueError) as exc:
+            error = exc
+        # collective: a rank that failed alone must not leave the others
+        # waiting in the next collective call
+        if self.comm.allreduce(error is not None):
+            self._log(f"    error preparing t={t:.6g}: {error}")
             return False, 0, [], -100, 0
         prev = self._previous
         if o.predictor == "secant" and prev is not None and prev[0] < m.load_factor:
@@ -228,8 +233,15 @@ class Solver:
                 hist += [float(r) for r in self.snes.getConvergenceHistory()[0][: its + 1]]
                 if reason <= 0 or not np.isfinite(m.x.norm()):
                     return False, total, hist, reason, outer
-                changed = [e.update(m) for e in m.effects]
-                if not self.comm.allreduce(any(changed)):
+                error, changed = None, False
+                try:
+                    changed = any([e.update(m) for e in m.effects])
+                except (RuntimeError, ValueError) as exc:
+                    error = exc
+                if self.comm.allreduce(error is not None):  # collective, see prepare
+                    self._log(f"    error updating effects at t={t:.6g}: {error}")
+                    return False, total, hist, -100, outer
+                if not self.comm.allreduce(changed):
                     return True, total, hist, reason, outer
             self._log(f"    effects still changing after {o.max_updates} updates at t={t:.6g}")
             return False, total, hist, -200, o.max_updates

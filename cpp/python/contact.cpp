@@ -198,6 +198,7 @@ void declare_contact(py::module_& m)
            [](const ContactSet& self, const carray<double>& q)
            { return array_of(self.nodal_forces(cspan(q))); })
       .def("commit", &ContactSet::commit)
+      .def_property_readonly("num_friction_histories", &ContactSet::num_friction_histories)
       .def("data",
            [](const ContactSet& self)
            {

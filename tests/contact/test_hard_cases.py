@@ -60,12 +60,13 @@ def test_deep_initial_interpenetration():
 
 def test_sweep_across_at_5_degrees():
     """B, at 5 degrees to A and pressed on it, is swept sideways across A by
-    six radii: the contact zone travels along A without pass-through."""
+    two radii: the contact travels 23 radii along A (2R / tan 5 deg),
+    sliding with friction, without pass-through."""
     model, A, B, axis = crossed_pair(angle=5.0, depth=1e-6, L=0.06, ne=12)
     side = np.array([1.0, 0.0, 0.0])
 
     def ends(t):
-        return list(6 * R * t * side + np.array([0, 0, -5e-5 * min(1.0, 5 * t)]))
+        return list(2 * R * t * side + np.array([0, 0, -5e-5 * min(1.0, 5 * t)]))
 
     model.fix(B, 0, ["position", "g1x"], lambda t: ends(t) + [0.0])
     model.fix(B, -1, ["position"], ends)
@@ -77,6 +78,10 @@ def test_sweep_across_at_5_degrees():
         on_step=lambda s, rec: heights.append(model.centreline(B)[:, 2].min()))
     assert converged
     assert min(heights) > 0  # B never went below A's centre line
+    target = contact.options.target_penetration * contact.g_r
+    for h in history:
+        assert h.effects["active_contacts"] > 0  # in contact all along the sweep
+        assert h.effects["max_penetration_over_radius"] * R <= 2 * target
 
 
 def test_very_stiff_penalty():

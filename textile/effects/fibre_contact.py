@@ -150,6 +150,7 @@ class FibreContact(Effect):
         """Detect, match history, set normals; True if the set changed."""
         o = self.options
         found = self._detect(q)
+        self._num_zones = int(found["num_zones"])
         old = self.set.data()
         n = len(found["fibre_i"])
         # history by identity: same fibre pair and nearest sections
@@ -178,9 +179,13 @@ class FibreContact(Effect):
         # one penalty per zone: the largest carried over (penalties only grow
         # within a step, so a zone never softens by re-detection)
         zone = found["zone"]
-        for z in np.unique(zone):
-            sel = zone == z
-            penalty[sel] = penalty[sel].max()
+        zone_penalty = np.zeros(self._num_zones)
+        np.maximum.at(zone_penalty, zone, np.where(has, penalty, 0.0))
+        comm = self.model.comm
+        if comm.size > 1:  # a zone's elements may live on several ranks
+            from mpi4py import MPI
+            comm.Allreduce(MPI.IN_PLACE, zone_penalty, op=MPI.MAX)
+        penalty = np.where(zone_penalty[zone] > 0, zone_penalty[zone], self.k0)
         q = np.ascontiguousarray(q)
         before = self.set.nodal_forces(q)
         mu = self.options.friction
@@ -204,14 +209,20 @@ class FibreContact(Effect):
         gap, zone, k = data["gap"], data["zone"], data["penalty"]
         target = o.target_penetration * self.g_r
         lo, hi = o.penalty_range[0] * self.k0, o.penalty_range[1] * self.k0
+        # zone numbers come from the (replicated) detection pass, so every
+        # rank agrees on them; each holds only its own elements
         comm = self.model.comm
-        zones = np.unique(zone)
-        pen = np.array([max(0.0, -gap[zone == z].min()) if np.any(zone == z) else 0.0
-                        for z in zones])
-        pen = comm.allreduce(pen, op=__import__("mpi4py").MPI.MAX) if comm.size > 1 else pen
+        zones = np.arange(self._num_zones)
+        pen = np.zeros(self._num_zones)
+        np.maximum.at(pen, zone, np.maximum(-gap, 0.0))
+        if comm.size > 1:
+            from mpi4py import MPI
+            comm.Allreduce(MPI.IN_PLACE, pen, op=MPI.MAX)
         changed = False
         for z, p in zip(zones, pen):
             sel = zone == z
+            if not np.any(sel):
+                continue
             kz = k[sel].max()
             # gentle steps (x2 at most): a large jump of the penalty moves
             # the equilibrium far and can throw Newton off

@@ -131,6 +131,14 @@ Eigen::Vector3d ContactSet::elastic_slip(const ContactElementState& e) const
   return P * (e.result.delta - e.stick);
 }
 
+std::size_t ContactSet::num_friction_histories() const
+{
+  std::size_t n = 0;
+  for (const auto& e : elements)
+    n += e.friction.mu > 0;
+  return n;
+}
+
 void ContactSet::commit()
 {
   for (auto& e : elements)

@@ -64,6 +64,9 @@ public:
   /// After a converged step: move the stick points of slipping elements.
   void commit();
 
+  /// Number of elements that keep friction history (mu > 0).
+  std::size_t num_friction_histories() const;
+
   /// Elastic tangential slip P (Delta - stick) of element e at its last
   /// evaluation: the friction history carried to a re-detected element.
   Eigen::Vector3d elastic_slip(const ContactElementState& e) const;

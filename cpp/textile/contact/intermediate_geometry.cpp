@@ -10,6 +10,10 @@ namespace textile::contact
 {
 namespace
 {
+/// |cos| of the angle between the centroid gap and a fibre's axis above
+/// which the contact is an end cap (excluded): within about 8 degrees.
+constexpr double end_cap_cosine = 0.99;
+
 /// The 2-point Gauss-Legendre rule on [-1, 1] (weights 1).
 struct GaussLegendre2
 {
@@ -245,6 +249,12 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
     }
     const auto [g1i, g2i] = g.at(c, z.fibre_i, p.s_i);
     const auto [g1j, g2j] = g.at(c, z.fibre_j, p.s_j);
+    // End caps are excluded: where the centroid gap runs along a fibre's
+    // axis (a fibre end pushed head-on into another fibre) the section
+    // border has no point facing the other fibre, so no element is made.
+    if (std::abs(d.dot(p.tangent_i)) > end_cap_cosine * d.norm()
+        or std::abs(d.dot(p.tangent_j)) > end_cap_cosine * d.norm())
+      continue;
     const Eigen::Vector2d qi = border_particle(g1i, g2i, c.radius[z.fibre_i], d);
     const Eigen::Vector2d qj = border_particle(g1j, g2j, c.radius[z.fibre_j], -d);
     p.xi1_i = qi(0);

@@ -75,6 +75,10 @@ bool is_crossing(const Centrelines& c, const ProximityZone& z, double parallel_a
 /// elements off the crossing would measure the gap between points on the
 /// sides of the sections and let the fibres through).
 ///
+/// End caps are excluded: no element is made where the centroid gap runs
+/// within about 8 degrees of a fibre's axis (a fibre end pushed head-on into
+/// another fibre); the side of a fibre near its end is handled as usual.
+///
 /// @param spacing  target distance between contact elements (length > 0),
 ///                 typically the fibre element length or less.
 /// @param fallback direction used to place the particles when the two
