@@ -28,12 +28,17 @@ class Output:
     """
 
     def __init__(self, directory: str, every: int = 1, extra=None):
+        """Contact elements, when the scene has contact, go to
+        ``contacts_<step>.vtu`` (indexed by ``contacts.pvd``): one line per
+        element between its two particles, with its normal force, gap,
+        normal, tangential force and slip flag."""
         if not isinstance(every, int) or every < 1:
             raise ValueError(f"every must be a positive integer, got {every!r}")
         self.directory = directory
         self.every = every
         self.extra = extra
         self._pvd = None
+        self._contact_pvd = None
         self._log = None
 
     def _open(self, model) -> None:
@@ -62,8 +67,11 @@ class Output:
         write_vtu = record.step % self.every == 0
         q = model.nodal_unknowns() if write_vtu else None
         fields = self._segment_fields(model) if write_vtu else None
+        contacts = self._contact_elements(model) if write_vtu else None
         if model.comm.rank != 0:
             return
+        if contacts is not None and len(contacts["gap"]):
+            self._write_contacts(record, contacts)
         if write_vtu:
             mesh = model.mesh
             lines = [q[mesh.fibre_nodes(f), 0:3] for f in range(len(mesh.fibres))]
@@ -82,6 +90,30 @@ class Output:
                               else 0.0,
                               energy=record.energy, updates=record.updates,
                               **record.effects, **extra))
+
+    def _contact_elements(self, model) -> dict | None:
+        """All ranks' contact elements gathered on rank 0 (None without contact)."""
+        from .effects.fibre_contact import FibreContact
+        effects = [e for e in model.effects if isinstance(e, FibreContact)]
+        if not effects:
+            return None
+        parts = model.comm.gather([e.elements() for e in effects], root=0)
+        if model.comm.rank != 0:
+            return None
+        flat = [d for rank in parts for d in rank]
+        return {k: np.concatenate([d[k] for d in flat]) for k in flat[0]}
+
+    def _write_contacts(self, record, d: dict) -> None:
+        if self._contact_pvd is None:
+            self._contact_pvd = PVDSeries(os.path.join(self.directory, "contacts.pvd"))
+        lines = [np.vstack([a, b]) for a, b in zip(d["position_i"], d["position_j"])]
+        name = os.path.join(self.directory, f"contacts_{record.step:05d}.vtu")
+        write_fibres_vtu(name, lines, cell_data={
+            "normal_force": d["normal_force"], "gap": d["gap"], "normal": d["normal"],
+            "tangential_force": d["tangential_force"], "slip": d["slip"].astype(np.int32),
+            "penalty": d["penalty"], "fibre_i": d["fibre_i"].astype(np.int32),
+            "fibre_j": d["fibre_j"].astype(np.int32)})
+        self._contact_pvd.add(record.load_factor, name)
 
     def _segment_fields(self, model) -> dict | None:
         """Element fields mapped to polyline segments (an element of order p

@@ -206,7 +206,7 @@ void declare_contact(py::module_& m)
              std::vector<int> fi(n), fj(n), zone(n);
              std::vector<double> si(n), sj(n), k(n), gap(n), RN(n), w(n);
              std::vector<bool> slip(n);
-             std::vector<Eigen::Vector3d> N(n), T(n), el(n), pi(n);
+             std::vector<Eigen::Vector3d> N(n), T(n), el(n), xi(n), xj(n);
              for (std::size_t i = 0; i < n; ++i)
              {
                const auto& e = self.elements[i];
@@ -223,6 +223,8 @@ void declare_contact(py::module_& m)
                N[i] = e.normal;
                T[i] = e.result.tangential_force;
                el[i] = self.elastic_slip(e);
+               xi[i] = e.result.position_i;
+               xj[i] = e.result.position_j;
              }
              py::dict out;
              out["fibre_i"] = array_of(fi);
@@ -241,6 +243,8 @@ void declare_contact(py::module_& m)
              out["normal"] = rows3(N);
              out["tangential_force"] = rows3(T);
              out["elastic_slip"] = rows3(el);
+             out["position_i"] = rows3(xi);
+             out["position_j"] = rows3(xj);
              return out;
            });
 }

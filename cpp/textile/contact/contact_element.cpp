@@ -48,7 +48,9 @@ ContactResult contact_element(const Particle& pi, const Particle& pj,
     throw std::invalid_argument("contact_element: wrong array size");
 
   ContactResult out;
-  out.delta = particle_position(pi, xi) - particle_position(pj, xj);
+  out.position_i = particle_position(pi, xi);
+  out.position_j = particle_position(pj, xj);
+  out.delta = out.position_i - out.position_j;
   out.gap = N.dot(out.delta);
   const double RN = law.reaction(out.gap), dRN = law.stiffness(out.gap);
   out.normal_force = RN;

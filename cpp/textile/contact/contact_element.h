@@ -49,6 +49,8 @@ struct ContactResult
   double normal_force = 0;                    ///< R_N >= 0
   Eigen::Vector3d tangential_force = Eigen::Vector3d::Zero(); ///< T
   Eigen::Vector3d delta = Eigen::Vector3d::Zero();            ///< Delta
+  Eigen::Vector3d position_i = Eigen::Vector3d::Zero();       ///< x_i(p_i)
+  Eigen::Vector3d position_j = Eigen::Vector3d::Zero();       ///< x_j(p_j)
   bool slip = false;
 };
 
