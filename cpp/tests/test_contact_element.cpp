@@ -73,7 +73,7 @@ TEST_P(ContactTangent, MatchesCentralFiniteDifferences)
   auto xi = element(Eigen::Vector3d(0, 0, 2 * R - 0.1 * R), ti, 0.1, gen, 1e-3);
   auto xj = element(Eigen::Vector3d(0, 0, 0), tj, 0.1, gen, 1e-3);
   const Eigen::Vector3d N = Eigen::Vector3d(0.05, -0.02, 1).normalized();
-  const Particle pi{3, 0.1, 0.0, -R}, pj{3, -0.05, 0.0, R};
+  const Particle pi{3, 0.1, 0.0, -R, R}, pj{3, -0.05, 0.0, R, R};
   const RegularizedPenalty law(1.0e4, 0.05 * R);
   const RegularizedCoulomb fr{0.3, 1e-4};
   // a stick point placed so that |u_T| = stick_offset * u_rev

@@ -2,6 +2,7 @@
 #include "../beam/shape_functions.h"
 
 #include <array>
+#include <cmath>
 #include <stdexcept>
 
 namespace textile::contact
@@ -31,18 +32,72 @@ Eigen::Vector3d particle_position(const Particle& p, std::span<const double> x)
   return pos;
 }
 
+namespace
+{
+/// Support of a section in direction N: h = R |(g1.N, g2.N)|, the extent of
+/// the (deformed) disk x0 + xi1 g1 + xi2 g2, |xi| <= R, along +-N. Adds its
+/// gradient (times `sign`) into G and its Hessian (times `sign`) into H for
+/// the element whose dofs start at `offset`; returns h.
+double support(const Particle& p, std::span<const double> x, const Eigen::Vector3d& N,
+               double sign, std::size_t offset, Eigen::VectorXd& G, Eigen::MatrixXd* H)
+{
+  std::array<double, 3> n, dn;
+  beam::lagrange(p.num_nodes, p.xi, n, dn);
+  Eigen::Vector3d g[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  for (int a = 0; a < p.num_nodes; ++a)
+    for (int al = 0; al < 2; ++al)
+      g[al] += n[a] * Eigen::Map<const Eigen::Vector3d>(x.data() + 9 * a + 3 + 3 * al);
+  const Eigen::Vector2d c(g[0].dot(N), g[1].dot(N));
+  const double nc = c.norm();
+  if (nc < 1e-12 * (g[0].norm() + g[1].norm()))
+    return 0.0; // section edge-on to N (fibre along the normal): no extent
+  const double h = p.radius * nc;
+  for (int a = 0; a < p.num_nodes; ++a)
+    for (int al = 0; al < 2; ++al)
+      G.segment<3>(offset + 9 * a + 3 + 3 * al) += sign * n[a] * p.radius * c(al) / nc * N;
+  if (H)
+  {
+    const Eigen::Matrix2d M
+        = p.radius * (Eigen::Matrix2d::Identity() / nc - c * c.transpose() / (nc * nc * nc));
+    const Eigen::Matrix3d NN = N * N.transpose();
+    for (int a = 0; a < p.num_nodes; ++a)
+      for (int b = 0; b < p.num_nodes; ++b)
+        for (int al = 0; al < 2; ++al)
+          for (int be = 0; be < 2; ++be)
+            H->block<3, 3>(offset + 9 * a + 3 + 3 * al, offset + 9 * b + 3 + 3 * be)
+                += sign * n[a] * n[b] * M(al, be) * NN;
+  }
+  return h;
+}
+
+/// Centroid x0 at the particle's abscissa, and the gap gradient of x0 (times sign).
+Eigen::Vector3d centroid(const Particle& p, std::span<const double> x, const Eigen::Vector3d& N,
+                         double sign, std::size_t offset, Eigen::VectorXd& G)
+{
+  std::array<double, 3> n, dn;
+  beam::lagrange(p.num_nodes, p.xi, n, dn);
+  Eigen::Vector3d x0 = Eigen::Vector3d::Zero();
+  for (int a = 0; a < p.num_nodes; ++a)
+  {
+    x0 += n[a] * Eigen::Map<const Eigen::Vector3d>(x.data() + 9 * a);
+    G.segment<3>(offset + 9 * a) += sign * n[a] * N;
+  }
+  return x0;
+}
+} // namespace
+
 ContactResult contact_element(const Particle& pi, const Particle& pj,
                               const Eigen::Vector3d& N, const NormalLaw& law,
                               const RegularizedCoulomb* friction, const Eigen::Vector3d& stick,
                               std::span<const double> xi, std::span<const double> xj,
                               std::span<double> r, std::span<double> K)
 {
-  // Delta = sum_s b_s q_s over both elements: b = [c_i, -c_j]
+  // Delta = sum_s b_s q_s over both elements: b = [c_i, -c_j] (friction)
   const auto ci = particle_coefficients(pi), cj = particle_coefficients(pj);
   std::vector<double> b(ci);
   for (double c : cj)
     b.push_back(-c);
-  const std::size_t ns = b.size(), n = 3 * ns;
+  const std::size_t ns = b.size(), n = 3 * ns, off_j = 3 * ci.size();
   if (xi.size() != 3 * ci.size() or xj.size() != 3 * cj.size() or r.size() != n
       or (!K.empty() and K.size() != n * n))
     throw std::invalid_argument("contact_element: wrong array size");
@@ -51,33 +106,53 @@ ContactResult contact_element(const Particle& pi, const Particle& pj,
   out.position_i = particle_position(pi, xi);
   out.position_j = particle_position(pj, xj);
   out.delta = out.position_i - out.position_j;
-  out.gap = N.dot(out.delta);
+
+  // gap = N.(x0_i - x0_j) - h_i(N) - h_j(N): distance of the two deformed
+  // sections along N. The supports follow the sections' rotation, so a
+  // section turning about its axis under load does not change the gap
+  // (material particles would, and feed a spurious torsion back).
+  Eigen::VectorXd G = Eigen::VectorXd::Zero(n);
+  Eigen::MatrixXd H;
+  if (!K.empty())
+    H = Eigen::MatrixXd::Zero(n, n);
+  Eigen::MatrixXd* Hp = K.empty() ? nullptr : &H;
+  const Eigen::Vector3d x0i = centroid(pi, xi, N, 1.0, 0, G);
+  const Eigen::Vector3d x0j = centroid(pj, xj, N, -1.0, off_j, G);
+  const double hi = support(pi, xi, N, -1.0, 0, G, Hp);
+  const double hj = support(pj, xj, N, -1.0, off_j, G, Hp);
+  out.gap = N.dot(x0i - x0j) - hi - hj;
   const double RN = law.reaction(out.gap), dRN = law.stiffness(out.gap);
   out.normal_force = RN;
 
-  // force f on Delta (internal force conjugate to Delta) and its derivative
-  // df/dDelta; then r_s += b_s f and K_st += b_s b_t df/dDelta
-  Eigen::Vector3d f = -RN * N;
-  Eigen::Matrix3d D = -dRN * N * N.transpose();
+  Eigen::Map<Eigen::VectorXd> rv(r.data(), n);
+  rv -= RN * G;
+  Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Km(
+      K.data(), K.empty() ? 0 : n, K.empty() ? 0 : n);
+  if (!K.empty())
+    Km -= dRN * G * G.transpose() + RN * H;
+
+  // friction at the material particles: T . dDelta/dq, Delta = sum b_s q_s
   if (friction and friction->mu > 0 and RN > 0)
   {
     const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - N * N.transpose();
     const Eigen::Vector3d uT = P * (out.delta - stick);
     const auto fr = friction->evaluate(RN, uT);
-    f += fr.T;
-    D += fr.dT_du * P + fr.dT_dRN * (dRN * N.transpose());
     out.tangential_force = fr.T;
     out.slip = fr.slip;
-  }
-  for (std::size_t s = 0; s < ns; ++s)
-    for (int c = 0; c < 3; ++c)
-      r[3 * s + c] += b[s] * f(c);
-  if (!K.empty())
+    const Eigen::Matrix3d D = fr.dT_du * P;
+    const Eigen::Vector3d dTdR = fr.dT_dRN * dRN;
     for (std::size_t s = 0; s < ns; ++s)
-      for (std::size_t t = 0; t < ns; ++t)
-        for (int c = 0; c < 3; ++c)
+      for (int c = 0; c < 3; ++c)
+      {
+        rv(3 * s + c) += b[s] * fr.T(c);
+        if (K.empty())
+          continue;
+        for (std::size_t t = 0; t < ns; ++t)
           for (int d = 0; d < 3; ++d)
-            K[(3 * s + c) * n + 3 * t + d] += b[s] * b[t] * D(c, d);
+            Km(3 * s + c, 3 * t + d) += b[s] * b[t] * D(c, d);
+        Km.row(3 * s + c) += (b[s] * dTdR(c)) * G.transpose();
+      }
+  }
   return out;
 }
 

@@ -3,14 +3,20 @@
 // Within a Newton solve the element is fixed: each particle is a material
 // point (element abscissa xi and section coordinates xi1, xi2) and the
 // normal N is held constant (METHOD.md section 4, loops 1-2 update them).
-// The particle position x(p) = sum_a N_a(xi) (x0_a + xi1 g1_a + xi2 g2_a) is
-// then linear in the nodal unknowns, so
-//     Delta = x_i(p_i) - x_j(p_j),   gap = N . Delta
-// are linear too, and the residual and tangent below are exact.
+// The gap is the distance along N between the two deformed sections at
+// the particles' abscissas,
+//     gap = N . (x0_i - x0_j) - h_i(N) - h_j(N),  h(N) = R |(g1.N, g2.N)|,
+// h being the extent of the section x0 + xi1 g1 + xi2 g2, |xi| <= R, along
+// N: the normal force acts at the sections' support points, so a section
+// turning about its axis does not change the gap (a material point would
+// turn away from the contact and feed back a spurious torsion). Friction
+// acts at the material particles x(p) = sum_a N_a(xi)(x0_a + xi1 g1_a +
+// xi2 g2_a), whose relative position Delta = x_i(p_i) - x_j(p_j) is linear
+// in the unknowns. Residual and tangent below are exact.
 //
 // Signs: N points from fibre j towards fibre i, gap < 0 when they
 // interpenetrate. The residual is the internal force: the normal part is
-// -R_N(gap) dgap/dq (pushes the particles apart), the friction part is
+// -R_N(gap) dgap/dq (pushes the sections apart), the friction part is
 // T . dDelta/dq with T the tangential reaction (resists relative sliding).
 #pragma once
 
@@ -33,6 +39,7 @@ struct Particle
   int num_nodes = 3;
   double xi = 0;
   double xi1 = 0, xi2 = 0;
+  double radius = 0; ///< section radius R (length)
 };
 
 /// Coefficients c_s, s = 3 a + f (node a, field f: x0, g1, g2), with
@@ -45,7 +52,7 @@ Eigen::Vector3d particle_position(const Particle& p, std::span<const double> x);
 /// What one evaluation found.
 struct ContactResult
 {
-  double gap = 0;                             ///< N . Delta (length)
+  double gap = 0;                             ///< section distance along N (length)
   double normal_force = 0;                    ///< R_N >= 0
   Eigen::Vector3d tangential_force = Eigen::Vector3d::Zero(); ///< T
   Eigen::Vector3d delta = Eigen::Vector3d::Zero();            ///< Delta

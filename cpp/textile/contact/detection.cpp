@@ -33,8 +33,10 @@ ContactElementState make_element(const Centrelines& c, const ContactPoint& p, in
   e.zone = zone;
   e.weight = p.weight;
   const int nn = c.order + 1;
-  e.particle_i = {nn, element_of(c, p.fibre_i, p.s_i, e.nodes_i), p.xi1_i, p.xi2_i};
-  e.particle_j = {nn, element_of(c, p.fibre_j, p.s_j, e.nodes_j), p.xi1_j, p.xi2_j};
+  e.particle_i = {nn, element_of(c, p.fibre_i, p.s_i, e.nodes_i), p.xi1_i, p.xi2_i,
+                  c.radius[p.fibre_i]};
+  e.particle_j = {nn, element_of(c, p.fibre_j, p.s_j, e.nodes_j), p.xi1_j, p.xi2_j,
+                  c.radius[p.fibre_j]};
   e.normal = normal;
   e.penalty = penalty;
   e.regularization = g_r;
@@ -52,7 +54,6 @@ ContactElementState make_element(const Centrelines& c, const ContactPoint& p, in
   const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - normal * normal.transpose();
   e.stick = delta - P * elastic_slip;
   e.result.delta = delta;
-  e.result.gap = normal.dot(delta);
   return e;
 }
 } // namespace textile::contact
