@@ -139,8 +139,10 @@ class Model:
         for e in self.effects:
             e.add_sparsity(sp)
         self.A = sp.create_matrix()
-        if any(e.dynamic_sparsity for e in self.effects):
-            self.A.setOption(PETSc.Mat.Option.NEW_NONZERO_ALLOCATION_ERR, False)
+        # effects with couplings that change (contact) extend this base
+        # pattern when they change: see rebuild_matrix
+        self._A_base = self.A
+        self.matrix_stale = False
         self.x = self.layout.create_vector()
         self.b = self.layout.create_vector()
         # global-index contributions skip constrained dofs (index -1)
@@ -211,6 +213,34 @@ class Model:
             vals.append(v[own])
         return (np.concatenate(idx).astype(np.int64) if idx else np.zeros(0, np.int64),
                 np.concatenate(vals) if vals else np.zeros(0))
+
+    def rebuild_matrix(self) -> PETSc.Mat:
+        """Recreate the system matrix with the base pattern plus the entries
+        that effects with dynamic sparsity declare now (collective)."""
+        if not self._A_base.isAssembled():
+            # the base pattern is read from an assembled matrix: fill it once
+            # with the tangent of the effects whose couplings are fixed
+            st = self.state()
+            self._A_base.zeroEntries()
+            for e in self.effects:
+                if not e.dynamic_sparsity:
+                    e.jacobian(st, self._A_base)
+            idx, _ = self._owned_constrained(self.load_factor)
+            _cpp.add_diagonal(self._A_base, idx.astype(np.int32), 1.0)
+            self._A_base.assemble()
+        P = _cpp.create_preallocator(self._A_base)
+        st = self.state()
+        for e in self.effects:
+            if e.dynamic_sparsity:
+                e.add_dynamic_pattern(self, P)
+        A = _cpp.preallocated_matrix(P, self._A_base)
+        P.destroy()
+        if self.A is not self._A_base:
+            self.A.destroy()
+        self.A = A
+        self.matrix_stale = False
+        del st
+        return A
 
     def constrained_positions(self) -> np.ndarray:
         """Positions, in this rank's owned part of the global vector, of the

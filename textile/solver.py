@@ -226,6 +226,9 @@ class Solver:
         total, hist, reason = 0, [], 0
         try:
             for outer in range(1, o.max_updates + 1):
+                if self.comm.allreduce(m.matrix_stale):
+                    # new couplings (contact): a matrix preallocated for them
+                    self.snes.setJacobian(m.jacobian, m.rebuild_matrix())
                 self.snes.solve(None, m.x)
                 reason = self.snes.getConvergedReason()
                 its = self.snes.getIterationNumber()

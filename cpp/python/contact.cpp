@@ -197,6 +197,10 @@ void declare_contact(py::module_& m)
       .def("nodal_forces",
            [](const ContactSet& self, const carray<double>& q)
            { return array_of(self.nodal_forces(cspan(q))); })
+      .def("insert_pattern",
+           [](const ContactSet& self, Mat P, const carray<std::int32_t>& dofs, double margin)
+           { self.insert_pattern(P, cspan(dofs), margin); },
+           py::arg("P"), py::arg("dofs"), py::arg("margin"))
       .def("commit", &ContactSet::commit)
       .def_property_readonly("num_friction_histories", &ContactSet::num_friction_histories)
       .def("data",

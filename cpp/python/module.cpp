@@ -2,6 +2,7 @@
 // Thin: arrays in, arrays out; PETSc matrices through dolfinx's caster.
 #include "../textile/assembly/beam_assembler.h"
 #include "../textile/assembly/petsc_insert.h"
+#include "../textile/assembly/preallocation.h"
 #include "../textile/beam/beam_element.h"
 #include "../textile/junction/point_tie.h"
 #include "../textile/loads/end_moment.h"
@@ -189,6 +190,13 @@ PYBIND11_MODULE(_cpp, m)
       [](Mat A, const carray<std::int32_t>& rows, double value)
       { assembly::add_diagonal(A, cspan(rows), value); },
       py::arg("A"), py::arg("rows"), py::arg("value"), "A[i, i] += value for i in rows (local)");
+
+  m.def("create_preallocator", &assembly::create_preallocator, py::arg("base"),
+        py::return_value_policy::take_ownership,
+        "MATPREALLOCATOR holding the pattern of base (add entries, then preallocated_matrix)");
+  m.def("preallocated_matrix", &assembly::preallocated_matrix, py::arg("preallocator"),
+        py::arg("base"), py::return_value_policy::take_ownership,
+        "New AIJ matrix with the collected pattern and base's layout and maps");
 
   declare_contact(m);
 }

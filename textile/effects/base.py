@@ -56,6 +56,11 @@ class Effect:
     def add_sparsity(self, sparsity) -> None:
         """Insert the blocks this effect will fill."""
 
+    def add_dynamic_pattern(self, model, preallocator) -> None:
+        """For effects with dynamic_sparsity: declare, by global index, the
+        matrix entries the effect can fill now (called when the model
+        rebuilds its matrix after the effect set ``model.matrix_stale``)."""
+
     def constraints(self, load_factor: float) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """Field name -> (local unrolled dofs, prescribed values) the effect
         constrains (e.g. Dirichlet conditions of its own field)."""

@@ -137,6 +137,10 @@ class FibreContact(Effect):
                                if o.self_contact else math.inf)
         self.set = _cpp.ContactSet()
         self._committed = self.set.copy()
+        self._pattern_pairs: set = set()
+        # elements farther apart than this are left out of the matrix
+        # pattern (they cannot close within one Newton solve)
+        self.pattern_margin = 0.5 * rmin
         self.stats = {}
 
     # -- detection and history -----------------------------------------------
@@ -194,12 +198,32 @@ class FibreContact(Effect):
                               np.ascontiguousarray(q), mesh.first_node, mesh.order, self.radius,
                               mesh.owned)
         self.set.evaluate(q)
+        # a coupling the matrix was not preallocated for: ask for a new one
+        pairs = self._coupled_pairs(self.set.data())
+        if not pairs <= self._pattern_pairs:
+            self._pattern_pairs = self._pattern_pairs | pairs
+            self.model.matrix_stale = True
         # what matters is what the elements do to the fibres at this state
         after = self.set.nodal_forces(q)
         comm = self.model.comm
         diff = comm.allreduce(float(np.sum((after - before) ** 2)))
         size = comm.allreduce(float(np.sum(before ** 2)))
         return diff > o.update_tolerance ** 2 * max(size, 1e-300) or (size == 0 and diff > 0)
+
+    def _coupled_pairs(self, d) -> set:
+        """(fibre, element) pairs of this rank's elements near contact (gap
+        below the pattern margin): the matrix entries they may fill."""
+        mesh = self.model.mesh
+        near = d["gap"] <= self.pattern_margin
+        ne = np.diff(mesh.first_node) // mesh.order
+        fi, fj = d["fibre_i"][near], d["fibre_j"][near]
+        ei = np.minimum(np.floor(d["s_i"][near]).astype(np.int64), ne[fi] - 1)
+        ej = np.minimum(np.floor(d["s_j"][near]).astype(np.int64), ne[fj] - 1)
+        return set(zip(fi.tolist(), ei.tolist(), fj.tolist(), ej.tolist()))
+
+    def add_dynamic_pattern(self, model, preallocator) -> None:
+        self.set.insert_pattern(preallocator, model.beam_global_dofs(model.state()),
+                                self.pattern_margin)
 
     def _adapt_penalties(self) -> bool:
         o = self.options

@@ -112,18 +112,24 @@ ContactResult contact_element(const Particle& pi, const Particle& pj,
   // section turning about its axis under load does not change the gap
   // (material particles would, and feed a spurious torsion back).
   Eigen::VectorXd G = Eigen::VectorXd::Zero(n);
-  Eigen::MatrixXd H;
-  if (!K.empty())
-    H = Eigen::MatrixXd::Zero(n, n);
-  Eigen::MatrixXd* Hp = K.empty() ? nullptr : &H;
   const Eigen::Vector3d x0i = centroid(pi, xi, N, 1.0, 0, G);
   const Eigen::Vector3d x0j = centroid(pj, xj, N, -1.0, off_j, G);
-  const double hi = support(pi, xi, N, -1.0, 0, G, Hp);
-  const double hj = support(pj, xj, N, -1.0, off_j, G, Hp);
+  const double hi = support(pi, xi, N, -1.0, 0, G, nullptr);
+  const double hj = support(pj, xj, N, -1.0, off_j, G, nullptr);
   out.gap = N.dot(x0i - x0j) - hi - hj;
   const double RN = law.reaction(out.gap), dRN = law.stiffness(out.gap);
   out.normal_force = RN;
-
+  if (RN == 0 and dRN == 0)
+    return out; // open: no force, no stiffness (friction needs R_N > 0)
+  Eigen::MatrixXd H;
+  if (!K.empty())
+  {
+    // the supports' Hessian (the gradient is already in G)
+    H = Eigen::MatrixXd::Zero(n, n);
+    Eigen::VectorXd scratch = Eigen::VectorXd::Zero(n);
+    support(pi, xi, N, -1.0, 0, scratch, &H);
+    support(pj, xj, N, -1.0, off_j, scratch, &H);
+  }
   Eigen::Map<Eigen::VectorXd> rv(r.data(), n);
   rv -= RN * G;
   Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Km(

@@ -75,6 +75,22 @@ void ContactSet::evaluate(std::span<const double> q)
     e.result = element(e, q, r, nullptr);
 }
 
+void ContactSet::insert_pattern(Mat P, std::span<const std::int32_t> dofs, double margin) const
+{
+  std::vector<double> zeros;
+  for (const auto& e : elements)
+  {
+    if (e.result.gap > margin)
+      continue;
+    auto idx = element_dofs(e, dofs);
+    std::erase_if(idx, [](std::int32_t i) { return i < 0; });
+    zeros.assign(idx.size() * idx.size(), 0.0);
+    check(MatSetValues(P, static_cast<PetscInt>(idx.size()), idx.data(),
+                       static_cast<PetscInt>(idx.size()), idx.data(), zeros.data(), INSERT_VALUES),
+          "MatSetValues");
+  }
+}
+
 std::vector<double> ContactSet::nodal_forces(std::span<const double> q) const
 {
   std::vector<double> out(q.size(), 0.0), r;

@@ -54,6 +54,13 @@ public:
   void assemble_matrix(std::span<const double> q, std::span<const std::int32_t> dofs,
                        Mat A) const;
 
+  /// Declare the entries the elements can fill (each element's dofs x its
+  /// dofs, global indices) into a matrix being preallocated: the elements
+  /// whose last evaluated gap is below `margin` (length); farther ones
+  /// cannot close within a Newton solve, and are added by a later rebuild
+  /// if they come near.
+  void insert_pattern(Mat P, std::span<const std::int32_t> dofs, double margin) const;
+
   /// Evaluate every element at q (results only, no assembly).
   void evaluate(std::span<const double> q);
 
