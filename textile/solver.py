@@ -10,7 +10,6 @@ converged step is already on disk by then.
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 import os
 import sys
@@ -21,6 +20,7 @@ import numpy as np
 from petsc4py import PETSc
 
 from .model import Model
+from .options import Options
 
 
 class ConvergenceError(RuntimeError):
@@ -28,7 +28,7 @@ class ConvergenceError(RuntimeError):
 
 
 @dataclass
-class SolverOptions:
+class SolverOptions(Options):
     """Options of :class:`Solver` (unknown names raise ValueError).
 
     Attributes
@@ -85,20 +85,11 @@ class SolverOptions:
     petsc_options: dict = field(default_factory=dict)
     verbose: bool = True
 
-    @classmethod
-    def from_dict(cls, d: dict | None) -> "SolverOptions":
-        d = dict(d or {})
-        names = {f.name for f in dataclasses.fields(cls)}
-        unknown = sorted(set(d) - names)
-        if unknown:
-            raise ValueError(f"unknown solver option(s) {unknown}; valid: {sorted(names)}")
-        return cls(**d)
+    kind = "solver"
 
     def __post_init__(self):
-        for name in ("initial_step", "min_step", "max_step", "grow", "cut", "rtol", "atol", "stol"):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
-                raise ValueError(f"SolverOptions.{name} must be a positive number, got {v!r}")
+        self.require_positive("initial_step", "min_step", "max_step", "grow", "cut", "rtol",
+                              "atol", "stol")
         if not self.min_step <= self.initial_step <= self.max_step <= 1.0:
             raise ValueError("SolverOptions: need 0 < min_step <= initial_step <= max_step <= 1")
         if not 0 < self.cut < 1 or self.grow < 1:

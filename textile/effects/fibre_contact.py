@@ -20,18 +20,18 @@ j to fibre i, gap < 0 when they interpenetrate.
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from .. import _cpp
+from ..options import Options
 from .base import Effect, State
 
 
 @dataclass(frozen=True)
-class ContactOptions:
+class ContactOptions(Options):
     """Parameters of fibre-fibre contact (unknown names raise ValueError).
 
     Attributes
@@ -79,21 +79,11 @@ class ContactOptions:
     self_contact: bool = True
     update_tolerance: float = 1e-3
 
-    @classmethod
-    def from_dict(cls, d: dict | None) -> "ContactOptions":
-        d = dict(d or {})
-        names = {f.name for f in dataclasses.fields(cls)}
-        unknown = sorted(set(d) - names)
-        if unknown:
-            raise ValueError(f"unknown contact option(s) {unknown}; valid: {sorted(names)}")
-        return cls(**d)
+    kind = "contact"
 
     def __post_init__(self):
-        for name in ("search_factor", "regularization", "target_penetration", "reversible_slip",
-                     "update_tolerance"):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
-                raise ValueError(f"ContactOptions.{name} must be a positive number, got {v!r}")
+        self.require_positive("search_factor", "regularization", "target_penetration",
+                              "reversible_slip", "update_tolerance")
         for name in ("spacing", "penalty"):
             v = getattr(self, name)
             if v is not None and (not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0):

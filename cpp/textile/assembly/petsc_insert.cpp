@@ -1,4 +1,5 @@
 #include "petsc_insert.h"
+#include "petsc_error.h"
 
 #include <stdexcept>
 #include <string>
@@ -13,11 +14,10 @@ void add_block(Mat A, std::span<const std::int32_t> rows, std::span<const std::i
   static_assert(std::is_same_v<PetscScalar, double>, "PETSc must use real double scalars");
   if (values.size() != rows.size() * cols.size())
     throw std::invalid_argument("add_block: values size does not match rows x cols");
-  const PetscErrorCode ierr = MatSetValuesLocal(A, static_cast<PetscInt>(rows.size()), rows.data(),
-                                                static_cast<PetscInt>(cols.size()), cols.data(),
-                                                values.data(), ADD_VALUES);
-  if (ierr != 0)
-    throw std::runtime_error("MatSetValuesLocal failed with PETSc error " + std::to_string(ierr));
+  check(MatSetValuesLocal(A, static_cast<PetscInt>(rows.size()), rows.data(),
+                          static_cast<PetscInt>(cols.size()), cols.data(), values.data(),
+                          ADD_VALUES),
+        "MatSetValuesLocal");
 }
 
 void add_diagonal(Mat A, std::span<const std::int32_t> rows, double value)
@@ -26,9 +26,7 @@ void add_diagonal(Mat A, std::span<const std::int32_t> rows, double value)
   {
     if (i < 0)
       continue;
-    const PetscErrorCode ierr = MatSetValuesLocal(A, 1, &i, 1, &i, &value, ADD_VALUES);
-    if (ierr != 0)
-      throw std::runtime_error("MatSetValuesLocal failed with PETSc error " + std::to_string(ierr));
+    check(MatSetValuesLocal(A, 1, &i, 1, &i, &value, ADD_VALUES), "MatSetValuesLocal");
   }
 }
 } // namespace textile::assembly

@@ -1,4 +1,5 @@
 #include "preallocation.h"
+#include "petsc_error.h"
 
 #include <stdexcept>
 #include <string>
@@ -6,16 +7,6 @@
 
 namespace textile::assembly
 {
-namespace
-{
-void check(PetscErrorCode ierr, const char* what)
-{
-  if (ierr != 0)
-    throw std::runtime_error(std::string(what) + " failed with PETSc error "
-                             + std::to_string(ierr));
-}
-} // namespace
-
 Mat create_preallocator(Mat base)
 {
   MPI_Comm comm;

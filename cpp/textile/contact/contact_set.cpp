@@ -1,4 +1,5 @@
 #include "contact_set.h"
+#include "../assembly/petsc_error.h"
 #include "regularized_penalty.h"
 
 #include <stdexcept>
@@ -8,12 +9,7 @@ namespace textile::contact
 {
 namespace
 {
-void check(PetscErrorCode ierr, const char* what)
-{
-  if (ierr != 0)
-    throw std::runtime_error(std::string(what) + " failed with PETSc error "
-                             + std::to_string(ierr));
-}
+using assembly::check;
 
 /// Global dof indices of the element pair, [element i, element j].
 std::vector<std::int32_t> element_dofs(const ContactElementState& e,
