@@ -180,3 +180,28 @@ def test_dense_bundle_of_19_compressed():
                     for i, f in enumerate(fibres)])
     dist = np.linalg.norm(mid[:, None] - mid[None], axis=2) + np.eye(len(fibres))
     assert dist.min() > 1.9 * R
+
+
+def test_tiny_regularization_different_radii_single_element_zone():
+    """g_r a billionth of the radius, radii 1 : 0.3, a crossing (one element
+    per zone), adaptive penalty: finite, bounded, converged."""
+    L = 0.1
+    A = textile.straight_fibre([0, -L / 2, 0], [0, L / 2, 0], R, MAT, num_elements=8)
+    r = 0.3 * R
+    B = textile.straight_fibre([-L / 2, 0, R + r - 1e-7], [L / 2, 0, R + r - 1e-7], r, MAT,
+                               num_elements=8)
+    model = textile.Model([A, B], comm=MPI.COMM_SELF)
+    for n in range(A.num_nodes):
+        model.fix(A, n, "all")
+    model.fix(B, 0, ["position", "g1x"], [0, 0, -2e-5, 0])
+    model.fix(B, -1, ["y", "z"], [0, -2e-5])
+    contact = FibreContact(dict(regularization=1e-9))
+    model.add_effect(contact)
+    history, converged = solve_or_fail_cleanly(model, dict(initial_step=0.25, max_step=0.25))
+    assert converged
+    d = contact.elements()
+    assert len(d["gap"]) == 1  # a crossing: a single-element zone
+    lo, hi = contact.options.penalty_range
+    assert lo * contact.k0 <= d["penalty"][0] <= hi * contact.k0
+    assert np.isfinite(d["normal_force"]).all() and d["normal_force"][0] > 0
+    assert contact.g_r == pytest.approx(1e-9 * r)  # from the smaller radius
