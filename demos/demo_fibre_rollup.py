@@ -168,12 +168,13 @@ def record(solver, rec):
 # Solving
 # -------
 #
-# Fixed load steps of 0.02 (7.2 degrees of end rotation each). Newton
+# Fixed load steps of 0.025 (9 degrees of end rotation each, so that pi/2,
+# pi and 3 pi/2 are reached exactly). Newton
 # converges in a few iterations per step; with much larger steps it needs
 # 6-13 iterations and may have to cut steps, as every step rotates the
 # sections by a finite angle. The solver prints one line per step.
 
-solver = textile.Solver(model, {"initial_step": 0.02, "max_step": 0.02},
+solver = textile.Solver(model, {"initial_step": 0.025, "max_step": 0.025},
                         output=output, on_step=record)
 solver.solve(1.0)
 
@@ -182,7 +183,7 @@ solver.solve(1.0)
 #
 # Tip positions at a quarter, half, three quarters and the full ring,
 # relative to L. The exact theta of each checkpoint is a converged load
-# factor (multiples of 0.02), so we look them up instead of interpolating.
+# factor (multiples of 0.025), so we look them up instead of interpolating.
 
 t = np.array(curve["t"])
 tips = np.column_stack([curve["x"], curve["y"]])
@@ -192,6 +193,7 @@ if comm.rank == 0:
     print(f"{'theta':>8} {'x':>10} {'x exact':>10} {'y':>10} {'y exact':>10} {'|error|':>10}")
     for label, frac in (("pi/2", 0.25), ("pi", 0.5), ("3pi/2", 0.75), ("2pi", 1.0)):
         i = int(np.argmin(np.abs(t - frac)))
+        assert abs(t[i] - frac) < 1e-9, "the load steps must reach this rotation exactly"
         xe, ye = exact_tip(theta[i])
         err = np.hypot(tips[i, 0] - xe, tips[i, 1] - ye) / L
         print(f"{label:>8} {tips[i, 0] / L:10.5f} {xe / L:10.5f} {tips[i, 1] / L:10.5f} "
