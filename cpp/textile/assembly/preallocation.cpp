@@ -7,22 +7,38 @@
 
 namespace textile::assembly
 {
-Mat create_preallocator(Mat base)
+namespace
+{
+/// A new matrix of `type` with the communicator and sizes of `like`.
+Mat matrix_like(Mat like, MatType type)
 {
   MPI_Comm comm;
-  check(PetscObjectGetComm(reinterpret_cast<PetscObject>(base), &comm), "PetscObjectGetComm");
+  check(PetscObjectGetComm(reinterpret_cast<PetscObject>(like), &comm), "PetscObjectGetComm");
   PetscInt m, n, M, N;
-  check(MatGetLocalSize(base, &m, &n), "MatGetLocalSize");
-  check(MatGetSize(base, &M, &N), "MatGetSize");
-  Mat P;
-  check(MatCreate(comm, &P), "MatCreate");
-  check(MatSetType(P, MATPREALLOCATOR), "MatSetType");
-  check(MatSetSizes(P, m, n, M, N), "MatSetSizes");
-  check(MatSetUp(P), "MatSetUp");
+  check(MatGetLocalSize(like, &m, &n), "MatGetLocalSize");
+  check(MatGetSize(like, &M, &N), "MatGetSize");
+  Mat A;
+  check(MatCreate(comm, &A), "MatCreate");
+  check(MatSetType(A, type), "MatSetType");
+  check(MatSetSizes(A, m, n, M, N), "MatSetSizes");
+  return A;
+}
+
+/// Give `A` the local-to-global maps of `like` (if it has them).
+void copy_local_to_global(Mat like, Mat A)
+{
   ISLocalToGlobalMapping rmap, cmap;
-  check(MatGetLocalToGlobalMapping(base, &rmap, &cmap), "MatGetLocalToGlobalMapping");
+  check(MatGetLocalToGlobalMapping(like, &rmap, &cmap), "MatGetLocalToGlobalMapping");
   if (rmap and cmap)
-    check(MatSetLocalToGlobalMapping(P, rmap, cmap), "MatSetLocalToGlobalMapping");
+    check(MatSetLocalToGlobalMapping(A, rmap, cmap), "MatSetLocalToGlobalMapping");
+}
+} // namespace
+
+Mat create_preallocator(Mat base)
+{
+  Mat P = matrix_like(base, MATPREALLOCATOR);
+  check(MatSetUp(P), "MatSetUp");
+  copy_local_to_global(base, P);
   // the base pattern, row by row (owned rows)
   PetscInt r0, r1;
   check(MatGetOwnershipRange(base, &r0, &r1), "MatGetOwnershipRange");
@@ -43,22 +59,11 @@ Mat preallocated_matrix(Mat P, Mat base)
 {
   check(MatAssemblyBegin(P, MAT_FINAL_ASSEMBLY), "MatAssemblyBegin");
   check(MatAssemblyEnd(P, MAT_FINAL_ASSEMBLY), "MatAssemblyEnd");
-  MPI_Comm comm;
-  check(PetscObjectGetComm(reinterpret_cast<PetscObject>(base), &comm), "PetscObjectGetComm");
-  PetscInt m, n, M, N;
-  check(MatGetLocalSize(base, &m, &n), "MatGetLocalSize");
-  check(MatGetSize(base, &M, &N), "MatGetSize");
   MatType type;
   check(MatGetType(base, &type), "MatGetType");
-  Mat A;
-  check(MatCreate(comm, &A), "MatCreate");
-  check(MatSetType(A, type), "MatSetType");
-  check(MatSetSizes(A, m, n, M, N), "MatSetSizes");
+  Mat A = matrix_like(base, type);
   check(MatPreallocatorPreallocate(P, PETSC_TRUE, A), "MatPreallocatorPreallocate");
-  ISLocalToGlobalMapping rmap, cmap;
-  check(MatGetLocalToGlobalMapping(base, &rmap, &cmap), "MatGetLocalToGlobalMapping");
-  if (rmap and cmap)
-    check(MatSetLocalToGlobalMapping(A, rmap, cmap), "MatSetLocalToGlobalMapping");
+  copy_local_to_global(base, A);
   // a coupling missed by the pattern costs a reallocation, not a failed run
   check(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE), "MatSetOption");
   return A;
