@@ -321,7 +321,9 @@ class Model:
 
     def nodal_unknowns(self) -> np.ndarray:
         """Current (global nodes, 9) values [x0, g1, g2] (positions, not
-        displacements), identical on every rank."""
+        displacements), identical on every rank. Collective: call it on
+        every rank (not inside a rank-0 block), as centreline,
+        section_vectors and reaction, which use it or an allreduce."""
         self.setup()
         u = self.state().u["beam"]
         return self.mesh.X_global + self._gather_beam(u)
