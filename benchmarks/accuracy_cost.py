@@ -44,6 +44,12 @@ ELEMENT_TYPES = {
 }
 
 
+# plot: colour = section order, line style and marker = element type
+SEC_COLOUR = {2: "tab:blue", 4: "tab:orange", 6: "tab:green", 8: "tab:red"}
+ELEMENT_STYLE = {"quad2": dict(ls="-", marker="o"), "quad3": dict(ls="--", marker="s"),
+                 "lin1": dict(ls=":", marker="^")}
+
+
 class _CountingSolver(Solver):
     """Solver that reports its histories to a global list (to count the Newton
     iterations linear_buckling runs internally)."""
@@ -199,7 +205,8 @@ def main(argv=None):
                    and r["section_order"] == sec and np.isfinite(r["error"]) and r["error"] > 0]
             if not sel:
                 continue
-            ax.loglog([r["wall_time"] for r in sel], [r["error"] for r in sel], "o-",
+            ax.loglog([r["wall_time"] for r in sel], [r["error"] for r in sel],
+                      color=SEC_COLOUR.get(sec, "k"), **ELEMENT_STYLE[et],
                       label=f"{et}, section {sec}")
             for r in sel:
                 ax.annotate(str(r["elements"]), (r["wall_time"], r["error"]), fontsize=6,

@@ -45,6 +45,10 @@ class SolverOptions(Options):
         absolute residual norm as a fraction of the model's force scale
         (the largest fibre's E*A: round-off in the internal forces sits
         near 1e-15 of it); relative step norm; Newton iterations per attempt.
+    stagnation_update, stagnation_reduction:
+        Round-off floor test: converged when the Newton update is below
+        stagnation_update of the solution, the residual no longer halves and
+        is below stagnation_reduction of the step's first residual.
     line_search:
         SNES line search; "basic" (full Newton steps, default): the residual
         norm mixes forces on positions and on section vectors, which misleads
@@ -78,6 +82,8 @@ class SolverOptions(Options):
     atol: float = 1e-13
     stol: float = 1e-10
     max_it: int = 25
+    stagnation_update: float = 1e-6
+    stagnation_reduction: float = 1e-3
     line_search: str = "basic"
     predictor: str = "secant"
     max_updates: int = 20
@@ -89,7 +95,7 @@ class SolverOptions(Options):
 
     def __post_init__(self):
         self.require_positive("initial_step", "min_step", "max_step", "grow", "cut", "rtol",
-                              "atol", "stol")
+                              "atol", "stol", "stagnation_update", "stagnation_reduction")
         if not self.min_step <= self.initial_step <= self.max_step <= 1.0:
             raise ValueError("SolverOptions: need 0 < min_step <= initial_step <= max_step <= 1")
         if not 0 < self.cut < 1 or self.grow < 1:
@@ -159,6 +165,7 @@ class Solver:
         snes.setFunction(m.residual, m.b)
         snes.setJacobian(m.jacobian, m.A)
         snes.setTolerances(rtol=o.rtol, atol=o.atol * m.force_scale, stol=o.stol, max_it=o.max_it)
+        snes.setConvergenceTest(self._converged)
         snes.setConvergenceHistory(reset=True)
         ksp = snes.getKSP()
         ksp.setType("preonly")
@@ -181,6 +188,36 @@ class Solver:
         snes.setFromOptions()
         snes.setOptionsPrefix(self.prefix)
         return snes
+
+    def _converged(self, snes, it, norms):
+        """SNES convergence test: PETSc's tests (residual relative/absolute,
+        step relative) plus one for the round-off floor. The floor of the
+        residual norm grows with the stiffness of the discretization (about
+        E A / element length), so no fixed absolute tolerance fits every mesh:
+        a Newton update below stagnation_update of the solution that no longer
+        halves a residual already reduced by stagnation_reduction means the
+        floor is reached and the solution is converged to round-off."""
+        xnorm, ynorm, fnorm = norms
+        o = self.options
+        if not np.isfinite(fnorm):
+            return PETSc.SNES.ConvergedReason.DIVERGED_FNORM_NAN
+        if it == 0:
+            self._fnorms = [fnorm]
+            return 2 if fnorm <= o.atol * self.model.force_scale else 0
+        self._fnorms.append(fnorm)
+        f0 = self._fnorms[0]
+        if fnorm <= o.atol * self.model.force_scale:
+            return PETSc.SNES.ConvergedReason.CONVERGED_FNORM_ABS
+        if fnorm <= o.rtol * f0:
+            return PETSc.SNES.ConvergedReason.CONVERGED_FNORM_RELATIVE
+        if ynorm <= o.stol * xnorm:
+            return PETSc.SNES.ConvergedReason.CONVERGED_SNORM_RELATIVE
+        if (it >= 2 and ynorm <= o.stagnation_update * xnorm
+                and fnorm > 0.5 * self._fnorms[-2] and fnorm <= o.stagnation_reduction * f0):
+            return PETSc.SNES.ConvergedReason.CONVERGED_SNORM_RELATIVE
+        if it >= o.max_it:
+            return PETSc.SNES.ConvergedReason.DIVERGED_MAX_IT
+        return PETSc.SNES.ConvergedReason.CONVERGED_ITERATING
 
     def _log(self, msg: str) -> None:
         if self.options.verbose and self.comm.rank == 0:

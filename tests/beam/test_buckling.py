@@ -26,3 +26,20 @@ def test_euler_critical_load(nu, cure, expected):
     assert mu[0] == pytest.approx(expected, rel=1e-2 if cure else 2e-3)
     # the round section buckles in two planes at the same load
     assert mu[1] == pytest.approx(mu[0], rel=1e-5)  # measured 1.2e-6 apart
+
+
+def test_fine_mesh_probe_converges_at_round_off():
+    """64 quadratic elements: the residual's round-off floor (~8e-10) lies
+    above 1e-13 E A; the stagnation test must still accept the probe step
+    in a few iterations instead of cutting it to failure."""
+    E, nu, R, L = 1.0e9, 0.3, 1e-3, 0.5
+    _, I, _, _ = section(E, nu, R)
+    fib = textile.straight_fibre([0, 0, 0], [L, 0, 0], R, textile.Material(E, nu),
+                                 num_elements=64)
+    model = textile.Model(fib, comm=MPI.COMM_SELF)
+    model.clamp(fib, 0)
+    model.add_force(fib, -1, [-np.pi ** 2 * E * I / (4 * L ** 2), 0, 0])
+    solver = textile.Solver(model, dict(initial_step=1e-3, max_step=1e-3, verbose=False))
+    solver.solve(1e-3)
+    assert solver.history[0].attempts == 1  # no cut
+    assert solver.history[0].newton_iterations <= 4
