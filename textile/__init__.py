@@ -15,6 +15,7 @@ petsc4py.init(_sys.argv)  # a no-op if PETSc is already initialized
 from petsc4py import PETSc  # noqa: E402,F401
 
 from . import _cpp  # noqa: E402
+from ._cpp import GeometryError  # noqa: E402
 from .element import BeamElement  # noqa: E402
 from .fibre import Fibre, arc_fibre, straight_fibre  # noqa: E402
 from .material import Material  # noqa: E402
@@ -23,5 +24,5 @@ from .output import Output  # noqa: E402
 from .solver import ConvergenceError, Solver, SolverOptions  # noqa: E402
 
 __all__ = ["BeamElement", "Fibre", "Material", "Model", "Solver", "SolverOptions",
-           "ConvergenceError", "Output", "straight_fibre", "arc_fibre", "PETSc", "_cpp"]
+           "ConvergenceError", "GeometryError", "Output", "straight_fibre", "arc_fibre", "PETSc", "_cpp"]
 __version__ = "0.1.0"

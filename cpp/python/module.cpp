@@ -4,6 +4,7 @@
 #include "../textile/assembly/petsc_insert.h"
 #include "../textile/assembly/preallocation.h"
 #include "../textile/beam/beam_element.h"
+#include "../textile/geometry_error.h"
 #include "../textile/junction/point_tie.h"
 #include "../textile/loads/end_moment.h"
 
@@ -41,6 +42,10 @@ std::vector<T> to_vector(const carray<T>& a)
 PYBIND11_MODULE(_cpp, m)
 {
   m.doc() = "textile C++ core: beam elements, loads, junctions and their PETSc assembly";
+
+  // a state outside the model's domain (folded element, ...): the solver
+  // cuts the step; any other exception is a bug and propagates
+  py::register_exception<GeometryError>(m, "GeometryError", PyExc_RuntimeError);
 
   py::class_<beam::Material>(m, "Material")
       .def(py::init(

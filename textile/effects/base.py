@@ -26,11 +26,18 @@ class State:
     dofs:
         Field name -> stacked local index of each local unrolled dof in the
         global matrix, -1 where the dof is constrained (PETSc skips it).
+    du:
+        Field name -> local array of the last Newton update (the iterate
+        minus the previous linearization point), set only for the tangent
+        that SNES asks for; empty otherwise. Effects may use it for a
+        mixed-integration-point (MIP) tangent; with du empty (or zero) the
+        tangent must be the exact derivative of the residual.
     """
 
     load_factor: float
     u: dict[str, np.ndarray] = field(default_factory=dict)
     dofs: dict[str, np.ndarray] = field(default_factory=dict)
+    du: dict[str, np.ndarray] = field(default_factory=dict)
 
 
 class Effect:
