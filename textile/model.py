@@ -50,6 +50,11 @@ class Model:
         self._fixed: dict[tuple[int, int], object] = {}
         self._ready = False
         self.load_factor = 0.0
+        #: Newton variant of the tangents SNES asks for: "standard" (exact
+        #: tangent) or "mip" (effects may use the last Newton update, see
+        #: State.du); set by the solver
+        self.newton = "standard"
+        self._linearization_point: PETSc.Vec | None = None
 
     # -- scene definition ------------------------------------------------
     def _check_open(self):
@@ -283,9 +288,26 @@ class Model:
             start_owned += f.size_local
         return pos
 
+    def set_linearization_point(self, x: PETSc.Vec | None = None) -> None:
+        """Remember x (default: the solution) as the last linearization point:
+        the next SNES tangent sees du = iterate - x (see State.du). The solver
+        calls it with the converged state at the start of every step."""
+        x = self.x if x is None else x
+        if self._linearization_point is None:
+            self._linearization_point = x.duplicate()
+        x.copy(self._linearization_point)
+
     def jacobian(self, snes, x: PETSc.Vec, J: PETSc.Mat, P: PETSc.Mat) -> None:
         """SNES Jacobian: sum of the effects' tangents, identity on constrained rows."""
         st = self.state(x)
+        if self.newton == "mip":
+            if self._linearization_point is None:
+                self.set_linearization_point(x)
+            ref = self._linearization_point
+            ref.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+            for f, a in zip(self.layout.fields, self.layout.get_local(ref)):
+                st.du[f.name] = st.u[f.name] - a
+            x.copy(ref)
         P.zeroEntries()
         for e in self.effects:
             e.jacobian(st, P)

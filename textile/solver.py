@@ -58,6 +58,12 @@ class SolverOptions(Options):
         Newton solves per step while effects update what Newton holds fixed
         (contact elements, normals, penalties); a step still changing after
         that many is cut.
+    newton:
+        "standard" (exact tangent every iteration) or "mip" (mixed
+        integration point Newton: the beams' geometric stiffness uses the
+        stress extrapolated linearly from the previous iterate, which keeps
+        Newton from overshooting on large rotations; the converged answer is
+        the same).
     predictor:
         Initial guess of a step: "secant" extrapolates the last converged
         increment (fewer Newton iterations on smooth paths), "none" starts
@@ -85,6 +91,7 @@ class SolverOptions(Options):
     stagnation_update: float = 1e-6
     stagnation_reduction: float = 1e-3
     line_search: str = "basic"
+    newton: str = "standard"
     predictor: str = "secant"
     max_updates: int = 20
     linear_solver: str = "mumps"
@@ -103,6 +110,9 @@ class SolverOptions(Options):
         if self.predictor not in ("secant", "none"):
             raise ValueError(f"SolverOptions.predictor must be 'secant' or 'none', "
                              f"got {self.predictor!r}")
+        if self.newton not in ("standard", "mip"):
+            raise ValueError(f"SolverOptions.newton must be 'standard' or 'mip', "
+                             f"got {self.newton!r}")
         if self.linear_solver not in ("mumps", "superlu_dist", "petsc"):
             raise ValueError(f"SolverOptions.linear_solver must be 'mumps', 'superlu_dist' or "
                              f"'petsc', got {self.linear_solver!r}")
@@ -152,6 +162,7 @@ class Solver:
         self.history: list[StepRecord] = []
         self._previous = None  # (load factor, state) of the step before the last
         model.setup()
+        model.newton = self.options.newton
         self.comm = model.comm
         Solver._count += 1
         self.prefix = f"textile{Solver._count}_"
@@ -244,6 +255,8 @@ class Solver:
         if self.comm.allreduce(error is not None):
             self._log(f"    error preparing t={t:.6g}: {error}")
             return False, 0, [], -100, 0
+        # the converged state is the linearization point of the predictor
+        m.set_linearization_point()
         prev = self._previous
         if o.predictor == "secant" and prev is not None and prev[0] < m.load_factor:
             t_prev, x_prev = prev
