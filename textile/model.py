@@ -13,6 +13,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from . import _cpp
+from .convergence import ResidualGroups
 from .effects import BeamElasticity, EndMoments, NodalForces, State
 from .effects.base import Effect
 from .element import BeamElement
@@ -153,28 +154,61 @@ class Model:
         # global-index contributions skip constrained dofs (index -1)
         self.b.setOption(PETSc.Vec.Option.IGNORE_NEGATIVE_INDICES, True)
         self._setup_constraints()
+        self._setup_residual_groups()
+        # the unknowns as the kernels see them: q = u + X_q (positions for
+        # fibres; the matrix field's kernels work on displacements)
+        self._X_q = self.layout.create_vector()
+        self.layout.scatter(self._X_q, [self.mesh.X_local.ravel() if f.name == "beam"
+                                        else np.zeros(f.size_ghosted) for f in self.layout.fields])
+        self.residual_norms = None
+        self.residual_floors = None
+        self.domain_error: Exception | None = None
         self._ready = True
 
     def _setup_constraints(self) -> None:
+        """Prescribed beam dofs as arrays: constants scale with t, each
+        callable is called once per evaluation for all the dofs it drives."""
         mesh = self.mesh
         keys = sorted(self._fixed)
         nodes = np.array([k[0] for k in keys], dtype=np.int64)
         local = mesh.global_to_local(nodes) if keys else np.zeros(0, dtype=np.int64)
         have = local >= 0
-        self._beam_fixed_keys = [k for k, h in zip(keys, have) if h]
-        self._beam_fixed_local = np.array([9 * l + k[1] for l, k in zip(local[have],
-                                           self._beam_fixed_keys)], dtype=np.int64)
+        keys = [k for k, h in zip(keys, have) if h]
+        self._beam_fixed_local = np.array([9 * l + k[1] for l, k in zip(local[have], keys)],
+                                          dtype=np.int64)
+        values = [self._fixed[k] for k in keys]
+        self._fixed_constant = np.array([0.0 if isinstance(v, tuple) else v for v in values])
+        groups: dict[int, tuple] = {}
+        for i, v in enumerate(values):
+            if isinstance(v, tuple):
+                fun, k = v
+                groups.setdefault(id(fun), (fun, [], []))
+                groups[id(fun)][1].append(i)
+                groups[id(fun)][2].append(k)
+        self._fixed_callables = [(fun, np.array(pos), np.array(comp))
+                                 for fun, pos, comp in groups.values()]
+        self._constraint_cache: tuple | None = None
+        # the set of constrained dofs is fixed for the run (values change
+        # with t): every effect sees the same mask
+        self._constrained_dofs = {name: dofs for name, (dofs, _)
+                                  in self._constraints(self.load_factor).items()}
+        self._masked_dofs = {}
+        for f in self.layout.fields:
+            d = self.layout.local_dofs(f.name).copy()
+            if f.name in self._constrained_dofs:
+                d[self._constrained_dofs[f.name]] = -1
+            self._masked_dofs[f.name] = d
 
     def _constraints(self, t: float) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """Field -> (local unrolled dofs, prescribed displacement at t)."""
-        vals = np.empty(len(self._beam_fixed_keys))
-        for i, key in enumerate(self._beam_fixed_keys):
-            v = self._fixed[key]
-            if isinstance(v, tuple):
-                fun, k = v
-                vals[i] = float(np.atleast_1d(fun(t))[k])
-            else:
-                vals[i] = t * v
+        if self._constraint_cache is not None and self._constraint_cache[0] == t:
+            return self._constraint_cache[1]
+        vals = t * self._fixed_constant
+        for fun, pos, comp in self._fixed_callables:
+            v = np.atleast_1d(np.asarray(fun(t), dtype=float))
+            if not np.all(np.isfinite(v)):
+                raise ValueError(f"a prescribed displacement callable returned {v!r} at t={t}")
+            vals[pos] = v[comp]
         out = {"beam": (self._beam_fixed_local, vals)}
         for e in self._effects:
             for name, (dofs, v) in e.constraints(t).items():
@@ -183,7 +217,27 @@ class Model:
                     out[name] = (np.concatenate([d0, dofs]), np.concatenate([v0, v]))
                 else:
                     out[name] = (np.asarray(dofs, dtype=np.int64), np.asarray(v, dtype=float))
+        self._constraint_cache = (t, out)
         return out
+
+    def _setup_residual_groups(self) -> None:
+        """Rows of the owned global vector by group (see textile.convergence)."""
+        owned_constrained = np.unique(self._owned_position(self._owned_constrained(0.0)[0]))
+        rows, scale, start = {}, {}, 0
+        rmax = max(f.radius for f in self.mesh.fibres)
+        for f in self.layout.fields:
+            pos = np.arange(start, start + f.size_local)
+            free = pos[~np.isin(pos, owned_constrained)]
+            if f.name == "beam":
+                comp = (free - start) % 9
+                rows["positions"], scale["positions"] = free[comp < 3], self.force_scale
+                rows["sections"], scale["sections"] = free[comp >= 3], self.force_scale * rmax
+            else:
+                rows[f.name], scale[f.name] = free, self.force_scale
+            start += f.size_local
+        rows["constraints"] = owned_constrained.astype(np.int64)
+        scale["constraints"] = max(f.length for f in self.mesh.fibres)
+        self.residual_groups = ResidualGroups(self.comm, list(rows), rows, scale)
 
     def state(self, x: PETSc.Vec | None = None) -> State:
         """Local view of the unknowns in x (default: the model's solution)."""
@@ -193,11 +247,7 @@ class Model:
         st = State(self.load_factor)
         for f, a in zip(self.layout.fields, arrays):
             st.u[f.name] = a
-            st.dofs[f.name] = self.layout.local_dofs(f.name)
-        for name, (dofs, _) in self._constraints(self.load_factor).items():
-            d = st.dofs[name].copy()
-            d[dofs] = -1
-            st.dofs[name] = d
+            st.dofs[f.name] = self._masked_dofs[f.name]
         return st
 
     def apply_constraints(self, x: PETSc.Vec) -> None:
@@ -254,11 +304,26 @@ class Model:
         return self._owned_position(idx)
 
     def residual(self, snes, x: PETSc.Vec, b: PETSc.Vec) -> None:
-        """SNES function: r(u) with constrained rows replaced by u - u_prescribed."""
+        """SNES function: r(u) with constrained rows replaced by u - u_prescribed.
+
+        A state outside the model's domain (an effect raises
+        :class:`textile.GeometryError`, e.g. a folded element) is recorded in
+        ``domain_error`` and gives an infinite residual: SNES stops and the
+        solver cuts the step. Any other exception propagates."""
         st = self.state(x)
         local = {f.name: np.zeros(f.size_ghosted) for f in self.layout.fields}
-        for e in self.effects:
-            e.residual(st, local)
+        error = None
+        try:
+            for e in self.effects:
+                e.residual(st, local)
+        except _cpp.GeometryError as exc:
+            error = exc
+        # collective: every rank must take the same branch
+        if self.comm.allreduce(error is not None, op=MPI.LOR):
+            self.domain_error = error or _cpp.GeometryError("domain error on another rank")
+            b.set(np.inf)
+            self.residual_norms = np.full(len(self.residual_groups.names), np.inf)
+            return
         self.layout.scatter(b, [local[f.name] for f in self.layout.fields])
         b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
         added = [e.residual_global(st, b) for e in self.effects]
@@ -275,6 +340,7 @@ class Model:
             # a non-finite residual makes SNES stop with DIVERGED_FNORM_NAN:
             # the load step is then cut, never accepted
             barr[~np.isfinite(barr)] = np.inf
+        self.residual_norms = self.residual_groups.norms(barr)
 
     def _owned_position(self, stacked_local: np.ndarray) -> np.ndarray:
         """Map stacked local indices of owned dofs to positions in the owned
@@ -309,13 +375,33 @@ class Model:
                 st.du[f.name] = st.u[f.name] - a
             x.copy(ref)
         P.zeroEntries()
-        for e in self.effects:
-            e.jacobian(st, P)
+        error = None
+        try:
+            for e in self.effects:
+                e.jacobian(st, P)
+        except _cpp.GeometryError as exc:
+            error = exc
+        if self.comm.allreduce(error is not None, op=MPI.LOR):
+            # the residual at this state passed: keep SNES going on an
+            # identity, the convergence test stops it (domain_error is set)
+            self.domain_error = error or _cpp.GeometryError("domain error on another rank")
         idx, _ = self._owned_constrained(self.load_factor)
         _cpp.add_diagonal(P, idx.astype(np.int32), 1.0)
         P.assemble()
         if J != P:
             J.assemble()
+        self._update_floors(x, P)
+
+    def _update_floors(self, x: PETSc.Vec, K: PETSc.Mat) -> None:
+        """Round-off floor of each residual group: | (|K| |q|)_g |, with q
+        the unknowns as the kernels see them (textile.convergence)."""
+        q = x.copy()
+        q.axpy(1.0, self._X_q)
+        y = self.b.duplicate()
+        _cpp.absolute_product(K, q, y)
+        self.residual_floors = self.residual_groups.norms(y.getArray(readonly=True))
+        q.destroy()
+        y.destroy()
 
     # -- results -------------------------------------------------------------
     def _gather_beam(self, values: np.ndarray) -> np.ndarray:
@@ -328,18 +414,25 @@ class Model:
         """All ranks: (global nodes, 9) current [x0, g1, g2] from a state."""
         return self.mesh.X_global + self._gather_beam(state.u["beam"])
 
-    def beam_global_dofs(self, state: State) -> np.ndarray:
+    def beam_global_dofs(self, state: State | None = None) -> np.ndarray:
         """All ranks: global system index of every beam unknown (9 per
-        global node), -1 where constrained at the state's load factor."""
+        global node), -1 where constrained (the constrained set is fixed for
+        a run; computed once)."""
+        if getattr(self, "_beam_global_dofs", None) is None:
+            self._beam_global_dofs = self._compute_beam_global_dofs()
+        return self._beam_global_dofs
+
+    def _compute_beam_global_dofs(self) -> np.ndarray:
         mesh = self.mesh
         nodes = np.arange(mesh.num_nodes_global)
         owners = np.searchsorted(mesh.bounds, nodes, side="right") - 1
-        dofs = self.layout.global_dofs("beam", nodes, owners)
-        keys = [k for k in self._fixed]
-        if keys:
-            k = np.array(keys, dtype=np.int64)
-            dofs[k[:, 0], k[:, 1]] = -1
-        return dofs.astype(np.int32).ravel()
+        dofs = self.layout.global_dofs("beam", nodes, owners).ravel()
+        # the one constrained set (prescribed dofs and effects' constraints),
+        # from every rank's local part
+        local = self._constrained_dofs.get("beam", np.zeros(0, dtype=np.int64))
+        unrolled = 9 * mesh.local_to_global[local // 9] + local % 9
+        dofs[np.concatenate(self.comm.allgather(unrolled)).astype(np.int64)] = -1
+        return dofs.astype(np.int32)
 
     def nodal_unknowns(self) -> np.ndarray:
         """Current (global nodes, 9) values [x0, g1, g2] (positions, not

@@ -89,6 +89,7 @@ class Output:
                               final_residual=record.residual_norms[-1] if record.residual_norms
                               else 0.0,
                               energy=record.energy, updates=record.updates,
+                              **{f"residual_{k}": v for k, v in record.residuals.items()},
                               **record.effects, **extra))
 
     def _contact_elements(self, model) -> dict | None:

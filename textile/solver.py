@@ -1,30 +1,54 @@
 """Load stepping with one PETSc SNES over the model's monolithic system.
 
 Each step raises the load factor t (loads and prescribed displacements
-scale with it), predicts the prescribed values, and runs Newton with line
-search (SNES ``newtonls``) with a direct solver (MUMPS LU by default). A
-step that fails (divergence, NaN, too many iterations, an error in a
-kernel) is restored and cut; easy steps let the step grow. A step that
-cannot be completed ends the run with :class:`ConvergenceError`; every
-converged step is already on disk by then.
+scale with it), predicts the new state, and runs Newton (SNES ``newtonls``)
+with a direct solver (:mod:`textile.linear_solver`). Convergence is tested
+per group of unknowns, each on its own scale (:mod:`textile.convergence`).
+
+A step attempt fails when Newton does not converge (too many iterations, a
+failed linear solve), when the residual is not finite, when an iterate
+leaves the model's domain (:class:`textile.GeometryError`: a folded
+element, ...), or when effects keep changing what Newton holds fixed. A
+failed attempt is restored and the step cut; easy steps let the step grow.
+A step that cannot be completed ends the run with :class:`ConvergenceError`,
+which names the reason in words; every converged step is on disk by then.
+Any other exception raised inside an effect is a bug: it propagates with
+its traceback.
 """
 from __future__ import annotations
 
 import math
-import os
-import sys
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 from petsc4py import PETSc
 
+from . import _cpp
+from .convergence import GroupTolerances
+from .linear_solver import LinearSolver, event_counts
 from .model import Model
 from .options import Options
 
 
 class ConvergenceError(RuntimeError):
     """A load step could not be completed even with the smallest step."""
+
+
+#: Reasons of a failed attempt that are not SNES's own.
+DIVERGED_EFFECTS_UNSETTLED = -200
+_OWN_REASONS = {DIVERGED_EFFECTS_UNSETTLED: "DIVERGED_EFFECTS_UNSETTLED"}
+
+
+def reason_name(reason: int) -> str:
+    """Name of an SNES converged reason (or of the solver's own reasons)."""
+    if reason in _OWN_REASONS:
+        return _OWN_REASONS[reason]
+    for name in dir(PETSc.SNES.ConvergedReason):
+        if name.isupper() and name != "ITERATING" \
+                and getattr(PETSc.SNES.ConvergedReason, name) == reason:
+            return name
+    return f"reason {reason}"
 
 
 @dataclass
@@ -40,15 +64,16 @@ class SolverOptions(Options):
         iterations) and after a failed one.
     easy_iterations:
         Newton iterations at or below which a step counts as easy.
-    rtol, atol, stol, max_it:
-        SNES tolerances: residual norm relative to the step's first one;
-        absolute residual norm as a fraction of the model's force scale
-        (the largest fibre's E*A: round-off in the internal forces sits
-        near 1e-15 of it); relative step norm; Newton iterations per attempt.
-    stagnation_update, stagnation_reduction:
-        Round-off floor test: converged when the Newton update is below
-        stagnation_update of the solution, the residual no longer halves and
-        is below stagnation_reduction of the step's first residual.
+    rtol, atol, floor_factor, stol, max_it:
+        Newton convergence, tested per group of unknowns (fibre positions,
+        fibre section vectors, each other field, constrained rows; see
+        :mod:`textile.convergence`): a group has converged when its residual
+        norm is below rtol times its value at the start of the Newton solve,
+        or below floor_factor * eps * |(|K||q|)_group| (its round-off floor),
+        or below atol times its force scale (the largest fibre E*A; times the
+        largest radius for section vectors). Or: the Newton update is below
+        stol times the solution (relative). max_it: Newton iterations per
+        solve.
     line_search:
         SNES line search; "basic" (full Newton steps, default): the residual
         norm mixes forces on positions and on section vectors, which misleads
@@ -69,7 +94,20 @@ class SolverOptions(Options):
         increment (fewer Newton iterations on smooth paths), "none" starts
         from the last converged state.
     linear_solver:
-        "mumps" (LU, default), "superlu_dist" or "petsc" (serial LU).
+        "mumps" (default), "superlu_dist" or "petsc" (serial).
+    factorization:
+        "auto" (LDL^T when every effect's tangent is symmetric, else LU),
+        "lu" or "cholesky" (LDL^T, symmetric indefinite).
+    reuse_factorization:
+        1: factorize the tangent every Newton iteration. n > 1: keep a
+        factorization for up to n iterations as the preconditioner of GMRES
+        on the exact tangent (see :mod:`textile.linear_solver`).
+    krylov_rtol, krylov_max_it:
+        GMRES tolerance and iteration limit when a factorization is reused
+        or approximate.
+    low_rank_tolerance:
+        > 0: MUMPS block low-rank factorization with this compression
+        tolerance (an approximate factorization preconditioning GMRES).
     petsc_options:
         Extra PETSc options for this solver's SNES/KSP/PC, e.g.
         {"snes_linesearch_type": "basic"} (applied with the solver's prefix);
@@ -86,15 +124,19 @@ class SolverOptions(Options):
     easy_iterations: int = 4
     rtol: float = 1e-10
     atol: float = 1e-13
+    floor_factor: float = 10.0
     stol: float = 1e-10
     max_it: int = 25
-    stagnation_update: float = 1e-6
-    stagnation_reduction: float = 1e-3
     line_search: str = "basic"
     newton: str = "standard"
     predictor: str = "secant"
     max_updates: int = 20
     linear_solver: str = "mumps"
+    factorization: str = "auto"
+    reuse_factorization: int = 1
+    krylov_rtol: float = 1e-9
+    krylov_max_it: int = 40
+    low_rank_tolerance: float = 0.0
     petsc_options: dict = field(default_factory=dict)
     verbose: bool = True
 
@@ -102,20 +144,26 @@ class SolverOptions(Options):
 
     def __post_init__(self):
         self.require_positive("initial_step", "min_step", "max_step", "grow", "cut", "rtol",
-                              "atol", "stol", "stagnation_update", "stagnation_reduction")
+                              "atol", "floor_factor", "stol", "krylov_rtol")
         if not self.min_step <= self.initial_step <= self.max_step <= 1.0:
             raise ValueError("SolverOptions: need 0 < min_step <= initial_step <= max_step <= 1")
         if not 0 < self.cut < 1 or self.grow < 1:
             raise ValueError("SolverOptions: need 0 < cut < 1 and grow >= 1")
-        if self.predictor not in ("secant", "none"):
-            raise ValueError(f"SolverOptions.predictor must be 'secant' or 'none', "
-                             f"got {self.predictor!r}")
-        if self.newton not in ("standard", "mip"):
-            raise ValueError(f"SolverOptions.newton must be 'standard' or 'mip', "
-                             f"got {self.newton!r}")
-        if self.linear_solver not in ("mumps", "superlu_dist", "petsc"):
-            raise ValueError(f"SolverOptions.linear_solver must be 'mumps', 'superlu_dist' or "
-                             f"'petsc', got {self.linear_solver!r}")
+        choices = dict(newton=("standard", "mip"), predictor=("secant", "none"),
+                       linear_solver=("mumps", "superlu_dist", "petsc"),
+                       factorization=("auto", "lu", "cholesky"))
+        for name, allowed in choices.items():
+            if getattr(self, name) not in allowed:
+                raise ValueError(f"SolverOptions.{name} must be one of {allowed}, "
+                                 f"got {getattr(self, name)!r}")
+        for name in ("max_it", "max_updates", "reuse_factorization", "krylov_max_it",
+                     "easy_iterations"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+                raise ValueError(f"SolverOptions.{name} must be a positive integer, got {v!r}")
+        if not (isinstance(self.low_rank_tolerance, (int, float))
+                and 0 <= self.low_rank_tolerance < 1):
+            raise ValueError("SolverOptions.low_rank_tolerance must be in [0, 1)")
 
 
 @dataclass
@@ -132,6 +180,29 @@ class StepRecord:
     energy: float
     updates: int = 1
     effects: dict = field(default_factory=dict)
+    #: per group: residual norm at convergence (see textile.convergence)
+    residuals: dict = field(default_factory=dict)
+
+    @property
+    def reason(self) -> str:
+        """The SNES converged reason in words."""
+        return reason_name(self.converged_reason)
+
+
+@dataclass
+class Attempt:
+    """What one attempt at a load step did."""
+
+    converged: bool
+    iterations: int = 0
+    residual_norms: list = field(default_factory=list)
+    reason: int = 0
+    updates: int = 0
+    message: str = ""
+
+    def describe(self) -> str:
+        text = f"{reason_name(self.reason)} after {self.iterations} Newton iterations"
+        return f"{text}: {self.message}" if self.message else text
 
 
 class Solver:
@@ -164,26 +235,30 @@ class Solver:
         model.setup()
         model.newton = self.options.newton
         self.comm = model.comm
+        o = self.options
+        self.tolerances = GroupTolerances(o.rtol, o.atol, o.floor_factor)
+        groups = model.residual_groups
+        self._scales = np.array([groups.scale[n] for n in groups.names])
         Solver._count += 1
         self.prefix = f"textile{Solver._count}_"
-        self.snes = self._create_snes()
+        self._counts = dict(newton_solves=0, newton_iterations=0, failed_attempts=0,
+                            accepted_steps=0, residual_evaluations=0, jacobian_evaluations=0)
+        self.snes = self._create_snes()  # starts PETSc's event log
+        self._events_at_start = event_counts()
 
+    # -- SNES ------------------------------------------------------------------
     def _create_snes(self) -> PETSc.SNES:
         o, m = self.options, self.model
         snes = PETSc.SNES().create(self.comm)
         snes.setOptionsPrefix(self.prefix)
         snes.setType("newtonls")
-        snes.setFunction(m.residual, m.b)
-        snes.setJacobian(m.jacobian, m.A)
-        snes.setTolerances(rtol=o.rtol, atol=o.atol * m.force_scale, stol=o.stol, max_it=o.max_it)
+        snes.setFunction(self._residual, m.b)
+        symmetric = all(getattr(e, "symmetric_tangent", False) for e in m.effects)
+        self.linear = LinearSolver(snes, o, self.prefix, symmetric, self.comm)
+        snes.setJacobian(self._jacobian, *self.linear.operators(m.A))
+        snes.setTolerances(max_it=o.max_it)
         snes.setConvergenceTest(self._converged)
         snes.setConvergenceHistory(reset=True)
-        ksp = snes.getKSP()
-        ksp.setType("preonly")
-        pc = ksp.getPC()
-        pc.setType("lu")
-        if o.linear_solver != "petsc":
-            pc.setFactorSolverType(o.linear_solver)
         opts = PETSc.Options()
         # petsc4py 3.18 has no SNESLineSearch binding: set it as an option
         opts[self.prefix + "snes_linesearch_type"] = o.line_search
@@ -200,31 +275,31 @@ class Solver:
         snes.setOptionsPrefix(self.prefix)
         return snes
 
+    def _residual(self, snes, x, b) -> None:
+        self._counts["residual_evaluations"] += 1
+        self.model.residual(snes, x, b)
+
+    def _jacobian(self, snes, x, J, P) -> None:
+        self._counts["jacobian_evaluations"] += 1
+        self.model.jacobian(snes, x, J, J)
+        self.linear.refresh(snes.getKSP(), J, P)
+
     def _converged(self, snes, it, norms):
-        """SNES convergence test: PETSc's tests (residual relative/absolute,
-        step relative) plus one for the round-off floor. The floor of the
-        residual norm grows with the stiffness of the discretization (about
-        E A / element length), so no fixed absolute tolerance fits every mesh:
-        a Newton update below stagnation_update of the solution that no longer
-        halves a residual already reduced by stagnation_reduction means the
-        floor is reached and the solution is converged to round-off."""
+        """Per-group residual test (textile.convergence) or a negligible
+        Newton update; domain errors and non-finite residuals stop SNES."""
+        m, o = self.model, self.options
         xnorm, ynorm, fnorm = norms
-        o = self.options
+        if m.domain_error is not None:
+            return PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
         if not np.isfinite(fnorm):
             return PETSc.SNES.ConvergedReason.DIVERGED_FNORM_NAN
+        g = m.residual_norms
         if it == 0:
-            self._fnorms = [fnorm]
-            return 2 if fnorm <= o.atol * self.model.force_scale else 0
-        self._fnorms.append(fnorm)
-        f0 = self._fnorms[0]
-        if fnorm <= o.atol * self.model.force_scale:
+            self._first_norms = g.copy()
+        if np.all(self.tolerances.converged(g, self._first_norms, m.residual_floors,
+                                            self._scales)):
             return PETSc.SNES.ConvergedReason.CONVERGED_FNORM_ABS
-        if fnorm <= o.rtol * f0:
-            return PETSc.SNES.ConvergedReason.CONVERGED_FNORM_RELATIVE
-        if ynorm <= o.stol * xnorm:
-            return PETSc.SNES.ConvergedReason.CONVERGED_SNORM_RELATIVE
-        if (it >= 2 and ynorm <= o.stagnation_update * xnorm
-                and fnorm > 0.5 * self._fnorms[-2] and fnorm <= o.stagnation_reduction * f0):
+        if it > 0 and ynorm <= o.stol * xnorm:
             return PETSc.SNES.ConvergedReason.CONVERGED_SNORM_RELATIVE
         if it >= o.max_it:
             return PETSc.SNES.ConvergedReason.DIVERGED_MAX_IT
@@ -234,27 +309,51 @@ class Solver:
         if self.options.verbose and self.comm.rank == 0:
             print(msg, flush=True)
 
-    def step_to(self, t: float) -> tuple[bool, int, list, int, int]:
-        """One load-step attempt at load factor t from the current state:
-        effects prepare (at the converged state), predictor, then Newton (loop 3) repeated while an effect updates what
-        Newton held fixed (loops 1-2: contact elements, normals, penalties).
-        Returns (converged, Newton iterations, residual history, SNES reason,
-        outer iterations)."""
-        m, o = self.model, self.options
-        error = None
+    # -- counters --------------------------------------------------------------
+    @property
+    def counters(self) -> dict:
+        """What this solver did so far, failed attempts included: Newton
+        solves and iterations, residual and tangent evaluations,
+        factorizations (numeric LU or LDL^T, and symbolic), linear solves
+        and their wall time (from PETSc's event log), failed attempts,
+        accepted steps."""
+        now = event_counts()
+        out = dict(self._counts)
+        for k, v in now.items():
+            out[k] = v - self._events_at_start.get(k, 0)
+        out["factorizations"] = out["lu_factorizations"] + out["ldlt_factorizations"]
+        out["factorization_seconds"] = (out["lu_factorizations_seconds"]
+                                        + out["ldlt_factorizations_seconds"])
+        out["forced_factorizations"] = self.linear.forced
+        return out
+
+    # -- load steps ------------------------------------------------------------
+    def _effects_step(self, method: str) -> tuple[bool, str]:
+        """Call ``method`` of every effect (prepare, update); GeometryError
+        on any rank makes the attempt fail. Returns (changed, error)."""
+        m = self.model
+        error, changed = "", False
         try:
-            # at the last converged state: history (e.g. friction stick
-            # points) carries over to re-detected elements without the
-            # step's increment
-            for e in m.effects:
-                e.prepare(m)
-        except (PETSc.Error, RuntimeError, ValueError) as exc:
-            error = exc
-        # collective: a rank that failed alone must not leave the others
-        # waiting in the next collective call
-        if self.comm.allreduce(error is not None):
-            self._log(f"    error preparing t={t:.6g}: {error}")
-            return False, 0, [], -100, 0
+            results = [getattr(e, method)(m) for e in m.effects]
+            changed = any(bool(r) for r in results)
+        except _cpp.GeometryError as exc:
+            error = str(exc)
+        errors = [e for e in self.comm.allgather(error) if e]
+        return self.comm.allreduce(changed), (errors[0] if errors else "")
+
+    def step_to(self, t: float) -> Attempt:
+        """One load-step attempt at load factor t from the current state:
+        effects prepare (at the converged state), predictor, then Newton
+        (loop 3) repeated while an effect updates what Newton held fixed
+        (loops 1-2: contact elements, normals, penalties)."""
+        m, o = self.model, self.options
+        m.domain_error = None
+        # at the last converged state: history (e.g. friction stick points)
+        # carries over to re-detected elements without the step's increment
+        _, error = self._effects_step("prepare")
+        if error:
+            return Attempt(False, reason=PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN,
+                           message=f"preparing effects: {error}")
         # the converged state is the linearization point of the predictor
         m.set_linearization_point()
         prev = self._previous
@@ -264,36 +363,39 @@ class Solver:
             m.x.axpy((t - m.load_factor) / (m.load_factor - t_prev), m.x - x_prev)
         m.load_factor = t
         m.apply_constraints(m.x)
-        total, hist, reason = 0, [], 0
-        try:
-            for outer in range(1, o.max_updates + 1):
-                if self.comm.allreduce(m.matrix_stale):
-                    # new couplings (contact): a matrix preallocated for them
-                    self.snes.setJacobian(m.jacobian, m.rebuild_matrix())
-                self.snes.solve(None, m.x)
-                reason = self.snes.getConvergedReason()
-                its = self.snes.getIterationNumber()
-                total += its
-                hist += [float(r) for r in self.snes.getConvergenceHistory()[0][: its + 1]]
-                if reason <= 0 or not np.isfinite(m.x.norm()):
-                    return False, total, hist, reason, outer
-                error, changed = None, False
-                try:
-                    changed = any([e.update(m) for e in m.effects])
-                except (RuntimeError, ValueError) as exc:
-                    error = exc
-                if self.comm.allreduce(error is not None):  # collective, see prepare
-                    self._log(f"    error updating effects at t={t:.6g}: {error}")
-                    return False, total, hist, -100, outer
-                if not self.comm.allreduce(changed):
-                    return True, total, hist, reason, outer
-            self._log(f"    effects still changing after {o.max_updates} updates at t={t:.6g}")
-            return False, total, hist, -200, o.max_updates
-        except (PETSc.Error, RuntimeError, ValueError) as e:
-            # an exception inside a callback or a kernel (e.g. a degenerate
-            # geometry): the attempt fails and the step is cut
-            self._log(f"    error at t={t:.6g}: {e}")
-            return False, total, hist, -100, 0
+        attempt = Attempt(False)
+        for outer in range(1, o.max_updates + 1):
+            attempt.updates = outer
+            if self.comm.allreduce(m.matrix_stale):
+                # new couplings (contact): a matrix preallocated for them
+                self.snes.setJacobian(self._jacobian, *self.linear.operators(m.rebuild_matrix()))
+            self._counts["newton_solves"] += 1
+            self.snes.solve(None, m.x)
+            attempt.reason = self.snes.getConvergedReason()
+            its = self.snes.getIterationNumber()
+            self._counts["newton_iterations"] += its
+            attempt.iterations += its
+            attempt.residual_norms += [float(r) for r in
+                                       self.snes.getConvergenceHistory()[0][: its + 1]]
+            if m.domain_error is not None:
+                # (PETSc may have stopped on the infinite residual first)
+                attempt.reason = PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
+                attempt.message = str(m.domain_error)
+                return attempt
+            if attempt.reason <= 0 or not np.isfinite(m.x.norm()):
+                return attempt
+            changed, error = self._effects_step("update")
+            if error:
+                attempt.reason = PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
+                attempt.message = f"updating effects: {error}"
+                return attempt
+            if not changed:
+                attempt.converged = True
+                return attempt
+        attempt.reason = DIVERGED_EFFECTS_UNSETTLED
+        attempt.message = (f"effects (contact elements, normals, penalties) still changing "
+                           f"after {o.max_updates} Newton solves")
+        return attempt
 
     def solve(self, t_end: float = 1.0) -> list[StepRecord]:
         """Advance from the current load factor to ``t_end`` (default 1)."""
@@ -307,19 +409,20 @@ class Solver:
         while t < t_end - 1e-14:
             step = min(dt, t_end - t)
             t0 = time.perf_counter()
-            ok, its, hist, reason, outer = self.step_to(t + step)
+            attempt = self.step_to(t + step)
             attempts += 1
-            if not ok:
+            if not attempt.converged:
+                self._counts["failed_attempts"] += 1
                 x_saved.copy(m.x)
                 m.load_factor = t
                 for e in m.effects:
                     e.restore(m)
                 dt = step * o.cut
-                self._log(f"  step to t={t + step:.6g} failed (reason {reason}, {its} its): "
+                self._log(f"  step to t={t + step:.6g} failed ({attempt.describe()}): "
                           f"cutting to dt={dt:.3g}")
                 if dt < o.min_step:
                     msg = (f"load step from t={t:.6g} did not converge even with dt < "
-                           f"min_step={o.min_step:g} (last SNES reason {reason}); "
+                           f"min_step={o.min_step:g}; last attempt: {attempt.describe()}; "
                            f"{len(self.history)} converged steps are kept")
                     if self.output is not None:
                         self.output.failure(msg)
@@ -333,18 +436,21 @@ class Solver:
             stats = {}
             for e in m.effects:
                 stats.update(e.statistics())
-            rec = StepRecord(len(self.history) + 1, t, its, attempts, hist,
-                             time.perf_counter() - t0, reason,
-                             self.comm.allreduce(m.beam.energy), outer, stats)
+            rec = StepRecord(len(self.history) + 1, t, attempt.iterations, attempts,
+                             attempt.residual_norms, time.perf_counter() - t0, attempt.reason,
+                             self.comm.allreduce(m.beam.energy), attempt.updates, stats,
+                             m.residual_groups.as_dict(m.residual_norms))
             self.history.append(rec)
+            self._counts["accepted_steps"] += 1
             attempts = 0
-            self._log(f"step {rec.step:3d}  t={t:.4f}  newton={its:2d}  "
-                      f"|r|={hist[-1] if hist else float('nan'):.2e}  {rec.wall_time:.2f}s")
+            self._log(f"step {rec.step:3d}  t={t:.4f}  newton={attempt.iterations:2d}  "
+                      f"|r|={rec.residual_norms[-1] if rec.residual_norms else float('nan'):.2e}"
+                      f"  {rec.wall_time:.2f}s")
             if self.output is not None:
                 self.output.write_step(self, rec)
             if self.on_step is not None:
                 self.on_step(self, rec)
-            if its <= o.easy_iterations:
+            if attempt.iterations <= o.easy_iterations:
                 dt = min(step * o.grow, o.max_step)
             else:
                 dt = step

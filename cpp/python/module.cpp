@@ -1,5 +1,6 @@
 // Python bindings of the textile C++ core (module textile._cpp).
 // Thin: arrays in, arrays out; PETSc matrices through dolfinx's caster.
+#include "../textile/assembly/absolute_product.h"
 #include "../textile/assembly/beam_assembler.h"
 #include "../textile/assembly/petsc_insert.h"
 #include "../textile/assembly/preallocation.h"
@@ -202,6 +203,9 @@ PYBIND11_MODULE(_cpp, m)
   m.def("preallocated_matrix", &assembly::preallocated_matrix, py::arg("preallocator"),
         py::arg("base"), py::return_value_policy::take_ownership,
         "New AIJ matrix with the collected pattern and base's layout and maps");
+
+  m.def("absolute_product", &assembly::absolute_product, py::arg("A"), py::arg("x"),
+        py::arg("y"), "y = |A| |x| (entrywise absolute values; assembled AIJ matrix)");
 
   declare_contact(m);
 }

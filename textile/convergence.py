@@ -1,0 +1,75 @@
+"""Newton convergence measured per group of unknowns, each on its own scale.
+
+The residual mixes quantities of different units: forces on the fibres'
+positions (N), generalized forces on their section vectors (N times a
+length), forces on a matrix field, and, on constrained rows, the gap to the
+prescribed value (a length). One norm over all of them lets the largest
+unit decide, and a fixed absolute tolerance cannot fit every mesh: the
+round-off floor of assembled internal forces grows with the stiffness of the
+discretization. So each *group* is tested on its own:
+
+    |r_g| <= max(rtol |r_g,0|,  floor_g,  atol_g)
+
+- ``r_g,0``: the group's residual at the start of the Newton solve;
+- ``floor_g = floor_factor * eps * | (|K| |q|)_g |``: the round-off floor,
+  eps times the size of the terms that make up the internal forces, with K
+  the last assembled tangent and q the unknowns as the kernels see them
+  (positions X + u for fibres): a residual at that level cannot be reduced
+  further and the iterate is converged to machine precision (a backward
+  error test);
+- ``atol_g``: an absolute safety net, a tiny fraction of the group's force
+  scale, used before any tangent exists.
+
+Groups: ``positions`` and ``sections`` (the fibres' x0 and g1, g2 rows),
+one per other field (e.g. ``matrix``), and ``constraints`` (prescribed
+rows, residual u - u_prescribed, a length).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from mpi4py import MPI
+
+#: Machine epsilon of the residual's floating point type.
+EPS = float(np.finfo(float).eps)
+
+
+@dataclass
+class ResidualGroups:
+    """Named groups of the owned rows of the global system.
+
+    ``rows[name]`` are positions in this rank's owned part of a global
+    vector; ``scale[name]`` is the group's force scale (for atol).
+    """
+
+    comm: MPI.Comm
+    names: list[str]
+    rows: dict[str, np.ndarray]
+    scale: dict[str, float]
+
+    def norms(self, owned: np.ndarray) -> np.ndarray:
+        """2-norm of each group of the owned array (collective)."""
+        local = np.array([float(np.dot(owned[self.rows[n]], owned[self.rows[n]]))
+                          for n in self.names])
+        return np.sqrt(self.comm.allreduce(local, op=MPI.SUM))
+
+    def as_dict(self, values: np.ndarray) -> dict[str, float]:
+        return {n: float(v) for n, v in zip(self.names, values)}
+
+
+@dataclass
+class GroupTolerances:
+    """The per-group test's tolerances (see the module docstring)."""
+
+    rtol: float = 1e-10
+    atol: float = 1e-13
+    floor_factor: float = 10.0
+
+    def converged(self, norms: np.ndarray, first: np.ndarray, floors: np.ndarray | None,
+                  scales: np.ndarray) -> np.ndarray:
+        """Per group: is the residual below its threshold?"""
+        limit = np.maximum(self.rtol * first, self.atol * scales)
+        if floors is not None:
+            limit = np.maximum(limit, self.floor_factor * EPS * floors)
+        return norms <= limit

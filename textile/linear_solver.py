@@ -1,0 +1,117 @@
+"""The linear solves of Newton: direct factorization, reuse, and what they cost.
+
+Each Newton iteration solves K du = -r. By default the tangent K is
+factorized every iteration (MUMPS LU; LDL^T when every effect of the scene
+has a symmetric tangent, which halves the factorization and gives the
+inertia of K for stability checks). Options trade factorizations for Krylov
+iterations or accuracy:
+
+- ``reuse_factorization = n > 1``: the exact tangent is still assembled
+  every iteration and is the operator of a right-preconditioned GMRES, but
+  the factorization used as its preconditioner is refreshed only every n-th
+  iteration, when GMRES needed more than half of ``krylov_max_it`` iterations,
+  when it failed, or when the matrix pattern changed (contact). The converged
+  answer is unchanged: the residual test is the same.
+- ``low_rank_tolerance > 0``: MUMPS block low-rank factorization (an
+  approximate LU, used as a preconditioner of GMRES on the exact tangent).
+
+Every factorization and solve is counted from PETSc's own event log.
+"""
+from __future__ import annotations
+
+from petsc4py import PETSc
+
+#: PETSc log events counted by the solver (name in PETSc -> our label).
+_EVENTS = {"MatLUFactorNum": "lu_factorizations", "MatCholFctrNum": "ldlt_factorizations",
+           "MatLUFactorSym": "symbolic_factorizations",
+           "MatCholFctrSym": "symbolic_factorizations", "KSPSolve": "linear_solves",
+           "PCSetUp": "pc_setup", "MatMult": "matrix_vector_products"}
+
+
+def event_counts() -> dict[str, float]:
+    """Cumulated counts and times of the PETSc events the solver reports
+    (process-wide since logging started)."""
+    out: dict[str, float] = {}
+    for name, label in _EVENTS.items():
+        info = PETSc.Log.Event(name).getPerfInfo()
+        out[label] = out.get(label, 0) + int(info["count"])
+        out[label + "_seconds"] = out.get(label + "_seconds", 0.0) + float(info["time"])
+    return out
+
+
+class LinearSolver:
+    """KSP/PC set-up of a Newton solve and the factorization policy.
+
+    ``symmetric``: every effect's tangent is symmetric (LDL^T allowed).
+    """
+
+    def __init__(self, snes: PETSc.SNES, options, prefix: str, symmetric: bool, comm):
+        PETSc.Log.begin()  # counts of factorizations and solves (cheap)
+        self.options = options
+        o = options
+        if o.factorization == "auto":
+            self.kind = "cholesky" if symmetric and o.linear_solver != "superlu_dist" else "lu"
+        else:
+            self.kind = o.factorization
+        if self.kind == "cholesky" and not symmetric:
+            raise ValueError("SolverOptions.factorization='cholesky' needs symmetric tangents; "
+                             "this scene has a non-symmetric effect (friction, end moments)")
+        if self.kind == "cholesky" and o.linear_solver == "superlu_dist":
+            raise ValueError("superlu_dist has no LDL^T factorization: use factorization='lu'")
+        self.reuse = o.reuse_factorization
+        self.krylov = self.reuse > 1 or o.low_rank_tolerance > 0
+        ksp = snes.getKSP()
+        if self.krylov:
+            ksp.setType("gmres")
+            ksp.setPCSide(PETSc.PC.Side.RIGHT)  # the test sees the true residual
+            ksp.setTolerances(rtol=o.krylov_rtol, atol=0.0, max_it=o.krylov_max_it)
+            ksp.setNormType(PETSc.KSP.NormType.UNPRECONDITIONED)
+        else:
+            ksp.setType("preonly")
+        pc = ksp.getPC()
+        pc.setType(self.kind)
+        if o.linear_solver != "petsc":
+            pc.setFactorSolverType(o.linear_solver)
+        opts = PETSc.Options()
+        if o.linear_solver == "mumps":
+            if o.low_rank_tolerance > 0:
+                opts[prefix + "mat_mumps_icntl_35"] = 2
+                opts[prefix + "mat_mumps_cntl_7"] = o.low_rank_tolerance
+            if self.kind == "cholesky" and comm.size > 1:
+                # the inertia of a parallel LDL^T needs the root on one process
+                opts[prefix + "mat_mumps_icntl_13"] = 1
+        self._since_factor = None  # Newton iterations since the last factorization
+        self.forced = 0            # factorizations forced by a failed or slow GMRES
+        self._P = None
+
+    # -- operators ------------------------------------------------------------
+    def operators(self, A: PETSc.Mat) -> tuple[PETSc.Mat, PETSc.Mat]:
+        """(operator, preconditioning matrix) for the system matrix A."""
+        if self._P is not None:
+            self._P.destroy()
+            self._P = None
+        self._since_factor = None
+        if self.reuse > 1:
+            self._P = A.duplicate()  # same pattern; values copied when refactorized
+            return A, self._P
+        return A, A
+
+    def refresh(self, ksp: PETSc.KSP, J: PETSc.Mat, P: PETSc.Mat) -> None:
+        """After the tangent J is assembled: copy it into P when a new
+        factorization is due (P's state then changes and the PC refactors)."""
+        if P is J:
+            return
+        last_its = ksp.getIterationNumber() if self._since_factor is not None else 0
+        failed = ksp.getConvergedReason() < 0 if self._since_factor is not None else False
+        due = (self._since_factor is None or self._since_factor >= self.reuse
+               or last_its > self.options.krylov_max_it // 2 or failed)
+        if due:
+            if failed or last_its > self.options.krylov_max_it // 2:
+                self.forced += 1
+            J.copy(P, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
+            self._since_factor = 0
+        self._since_factor += 1
+
+    def force_refactorization(self) -> None:
+        """The next tangent is factorized (e.g. after GMRES failed)."""
+        self._since_factor = None
