@@ -8,10 +8,12 @@ iterations or accuracy:
 
 - ``reuse_factorization = n > 1``: the exact tangent is still assembled
   every iteration and is the operator of a right-preconditioned GMRES, but
-  the factorization used as its preconditioner is refreshed only every n-th
-  iteration, when GMRES needed more than half of ``krylov_max_it`` iterations,
-  when it failed, or when the matrix pattern changed (contact). The converged
-  answer is unchanged: the residual test is the same.
+  the factorization used as its preconditioner is refreshed at the first
+  iteration of every Newton solve, then every n-th iteration, or when
+  GMRES needed more than half of ``krylov_max_it`` iterations or failed (the
+  solver then retries the Newton solve with a fresh factorization instead of
+  cutting the step). The converged answer is unchanged: the residual test is
+  the same.
 - ``low_rank_tolerance > 0``: MUMPS block low-rank factorization (an
   approximate LU, used as a preconditioner of GMRES on the exact tangent).
 
@@ -20,6 +22,8 @@ Every factorization and solve is counted from PETSc's own event log.
 from __future__ import annotations
 
 from petsc4py import PETSc
+
+from . import _cpp
 
 #: PETSc log events counted by the solver (name in PETSc -> our label).
 _EVENTS = {"MatLUFactorNum": "lu_factorizations", "MatCholFctrNum": "ldlt_factorizations",
@@ -82,34 +86,34 @@ class LinearSolver:
                 opts[prefix + "mat_mumps_icntl_13"] = 1
         self._since_factor = None  # Newton iterations since the last factorization
         self.forced = 0            # factorizations forced by a failed or slow GMRES
-        self._P = None
 
-    # -- operators ------------------------------------------------------------
+    # -- factorization policy --------------------------------------------------
     def operators(self, A: PETSc.Mat) -> tuple[PETSc.Mat, PETSc.Mat]:
-        """(operator, preconditioning matrix) for the system matrix A."""
-        if self._P is not None:
-            self._P.destroy()
-            self._P = None
+        """(operator, preconditioning matrix) for the system matrix A: the
+        same matrix; a new matrix (pattern) always gets a new factorization."""
         self._since_factor = None
-        if self.reuse > 1:
-            self._P = A.duplicate()  # same pattern; values copied when refactorized
-            return A, self._P
         return A, A
 
-    def refresh(self, ksp: PETSc.KSP, J: PETSc.Mat, P: PETSc.Mat) -> None:
-        """After the tangent J is assembled: copy it into P when a new
-        factorization is due (P's state then changes and the PC refactors)."""
-        if P is J:
+    def refresh(self, snes: PETSc.SNES) -> None:
+        """Inside the Jacobian callback, once the tangent is assembled: keep
+        the last factorization as the preconditioner, or let the PC
+        factorize the new tangent (SNES reads its lag after the callback)."""
+        if self.reuse == 1:
             return
-        last_its = ksp.getIterationNumber() if self._since_factor is not None else 0
-        failed = ksp.getConvergedReason() < 0 if self._since_factor is not None else False
-        due = (self._since_factor is None or self._since_factor >= self.reuse
-               or last_its > self.options.krylov_max_it // 2 or failed)
+        ksp = snes.getKSP()
+        if snes.getIterationNumber() == 0:
+            # a new load or new contact elements: the old tangent is stale
+            self._since_factor = None
+        started = self._since_factor is not None
+        last_its = ksp.getIterationNumber() if started else 0
+        failed = started and ksp.getConvergedReason() < 0
+        slow = last_its > self.options.krylov_max_it // 2
+        due = not started or self._since_factor >= self.reuse or failed or slow
         if due:
-            if failed or last_its > self.options.krylov_max_it // 2:
+            if started and (failed or slow):
                 self.forced += 1
-            J.copy(P, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
             self._since_factor = 0
+        _cpp.set_lag_preconditioner(snes, -2 if due else -1)
         self._since_factor += 1
 
     def force_refactorization(self) -> None:

@@ -242,7 +242,8 @@ class Solver:
         Solver._count += 1
         self.prefix = f"textile{Solver._count}_"
         self._counts = dict(newton_solves=0, newton_iterations=0, failed_attempts=0,
-                            accepted_steps=0, residual_evaluations=0, jacobian_evaluations=0)
+                            accepted_steps=0, residual_evaluations=0, jacobian_evaluations=0,
+                            linear_solve_retries=0)
         self.snes = self._create_snes()  # starts PETSc's event log
         self._events_at_start = event_counts()
 
@@ -281,8 +282,8 @@ class Solver:
 
     def _jacobian(self, snes, x, J, P) -> None:
         self._counts["jacobian_evaluations"] += 1
-        self.model.jacobian(snes, x, J, J)
-        self.linear.refresh(snes.getKSP(), J, P)
+        self.model.jacobian(snes, x, J, P)
+        self.linear.refresh(snes)
 
     def _converged(self, snes, it, norms):
         """Per-group residual test (textile.convergence) or a negligible
@@ -369,14 +370,22 @@ class Solver:
             if self.comm.allreduce(m.matrix_stale):
                 # new couplings (contact): a matrix preallocated for them
                 self.snes.setJacobian(self._jacobian, *self.linear.operators(m.rebuild_matrix()))
-            self._counts["newton_solves"] += 1
-            self.snes.solve(None, m.x)
-            attempt.reason = self.snes.getConvergedReason()
-            its = self.snes.getIterationNumber()
-            self._counts["newton_iterations"] += its
-            attempt.iterations += its
-            attempt.residual_norms += [float(r) for r in
-                                       self.snes.getConvergenceHistory()[0][: its + 1]]
+            for retry in range(o.max_it):
+                self._counts["newton_solves"] += 1
+                self.snes.solve(None, m.x)
+                attempt.reason = self.snes.getConvergedReason()
+                its = self.snes.getIterationNumber()
+                self._counts["newton_iterations"] += its
+                attempt.iterations += its
+                attempt.residual_norms += [float(r) for r in
+                                           self.snes.getConvergenceHistory()[0][: its + 1]]
+                if not (attempt.reason == PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE
+                        and self.linear.krylov and m.domain_error is None):
+                    break
+                # GMRES with a reused or approximate factorization failed:
+                # go on from this iterate with a fresh, exact one
+                self._counts["linear_solve_retries"] += 1
+                self.linear.force_refactorization()
             if m.domain_error is not None:
                 # (PETSc may have stopped on the infinite residual first)
                 attempt.reason = PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN

@@ -3,6 +3,7 @@
 #include "../textile/assembly/absolute_product.h"
 #include "../textile/assembly/beam_assembler.h"
 #include "../textile/assembly/petsc_insert.h"
+#include "../textile/assembly/petsc_error.h"
 #include "../textile/assembly/preallocation.h"
 #include "../textile/beam/beam_element.h"
 #include "../textile/geometry_error.h"
@@ -12,6 +13,7 @@
 #include "bindings.h"
 
 #include <caster_petsc.h>
+#include <petscsnes.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -206,6 +208,15 @@ PYBIND11_MODULE(_cpp, m)
 
   m.def("absolute_product", &assembly::absolute_product, py::arg("A"), py::arg("x"),
         py::arg("y"), "y = |A| |x| (entrywise absolute values; assembled AIJ matrix)");
+
+  m.def(
+      "set_lag_preconditioner",
+      [](SNES snes, int lag)
+      { assembly::check(SNESSetLagPreconditioner(snes, lag), "SNESSetLagPreconditioner"); },
+      py::arg("snes"), py::arg("lag"),
+      "SNESSetLagPreconditioner (petsc4py 3.18 has no binding): -2 refactorizes at the "
+      "tangent being assembled, -1 keeps the last factorization; read after the Jacobian "
+      "callback, so the callback may set it");
 
   declare_contact(m);
 }

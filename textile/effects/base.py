@@ -52,6 +52,10 @@ class Effect:
     #: True if the effect's couplings change during a run (contact): the
     #: matrix then accepts entries outside the initial sparsity pattern.
     dynamic_sparsity: bool = False
+    #: True if the effect's tangent is symmetric (it derives from a potential
+    #: and nothing follows the deformation): when every effect of a scene
+    #: says so, the solver may factorize with LDL^T.
+    symmetric_tangent: bool = False
 
     def add_fields(self, model) -> list:
         """New fields this effect brings (e.g. the matrix's function space)."""

@@ -15,6 +15,7 @@ class BeamElasticity(Effect):
     """
 
     fields = ("beam",)
+    symmetric_tangent = True  # the Hessian of the stored energy (MIP keeps it symmetric)
 
     def setup(self, model) -> None:
         mesh, el = model.mesh, model.element

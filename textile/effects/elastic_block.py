@@ -62,6 +62,8 @@ class ElasticBlock(Effect):
         Name of the block's field (distinct names for several blocks).
     """
 
+    symmetric_tangent = True  # hyperelastic: the tangent is a Hessian
+
     def __init__(self, mesh, young: float, poisson: float, clamp=None, law: str = "neo-hookean",
                  name: str = "matrix"):
         if not isinstance(mesh, _mesh.Mesh):

@@ -42,6 +42,8 @@ class FibreMatrixTie(Effect):
         Penalty stiffness k (N/m), > 0.
     """
 
+    symmetric_tangent = True  # a quadratic penalty potential
+
     def __init__(self, model, block: ElasticBlock, nodes, stiffness: float):
         if not isinstance(block, ElasticBlock):
             raise TypeError(f"block must be an ElasticBlock, got {type(block).__name__}")

@@ -16,6 +16,7 @@ class NodalForces(Effect):
     """
 
     fields = ("beam",)
+    symmetric_tangent = True  # dead loads: no tangent at all
 
     def __init__(self):
         self._items: list[tuple[int, int, float]] = []
