@@ -15,6 +15,11 @@ petsc4py.init(_sys.argv)  # a no-op if PETSc is already initialized
 from petsc4py import PETSc  # noqa: E402,F401
 
 from . import _cpp  # noqa: E402
+from . import runtime  # noqa: E402
+
+# one OpenBLAS thread per core, shared by the ranks on a node (no
+# oversubscription under mpirun); see textile.runtime
+runtime.limit_blas_threads()
 from ._cpp import GeometryError  # noqa: E402
 from .element import BeamElement  # noqa: E402
 from .fibre import Fibre, arc_fibre, straight_fibre  # noqa: E402

@@ -1,0 +1,20 @@
+"""The BLAS under MUMPS is OpenBLAS and never oversubscribes the cores."""
+import os
+
+import pytest
+
+import textile
+
+
+@pytest.mark.mpi
+def test_openblas_with_sane_threads():
+    info = textile.runtime.blas_info()
+    # .ci/install brings libopenblas0-pthread; the reference BLAS makes
+    # MUMPS 4-6x slower, so its presence is a set-up failure
+    assert info["openblas"], info
+    assert "warning" not in info
+    if "OPENBLAS_NUM_THREADS" not in os.environ and "OMP_NUM_THREADS" not in os.environ:
+        # one thread per core, shared by the ranks on the node
+        assert info["threads"] * info["ranks_on_node"] <= max(info["cores"], info["ranks_on_node"])
+        assert info["threads"] >= 1
+    assert "thread(s) per rank" in textile.runtime.describe()
