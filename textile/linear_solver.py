@@ -81,9 +81,13 @@ class LinearSolver:
             if o.low_rank_tolerance > 0:
                 opts[prefix + "mat_mumps_icntl_35"] = 2
                 opts[prefix + "mat_mumps_cntl_7"] = o.low_rank_tolerance
-            if self.kind == "cholesky" and comm.size > 1:
-                # the inertia of a parallel LDL^T needs the root on one process
-                opts[prefix + "mat_mumps_icntl_13"] = 1
+            if self.kind == "cholesky":
+                # inertia (negative pivots) for the stability check: MUMPS
+                # reports it with null-pivot detection on, and in parallel
+                # with the root node factorized on one process
+                opts[prefix + "mat_mumps_icntl_24"] = 1
+                if comm.size > 1:
+                    opts[prefix + "mat_mumps_icntl_13"] = 1
         self._since_factor = None  # Newton iterations since the last factorization
         self.forced = 0            # factorizations forced by a failed or slow GMRES
 

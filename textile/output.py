@@ -90,6 +90,7 @@ class Output:
                               else 0.0,
                               energy=record.energy, updates=record.updates,
                               **{f"residual_{k}": v for k, v in record.residuals.items()},
+                              **record.stability,
                               **record.effects, **extra))
 
     def _contact_elements(self, model) -> dict | None:
@@ -139,6 +140,11 @@ class Output:
         """Record why a run stopped (kept in results.json's meta)."""
         if self._log:
             self._log.set_meta(failure=message)
+
+    def warning(self, message: str) -> None:
+        """Record a warning of the run (results.json meta ``warnings``)."""
+        if self._log:
+            self._log.set_meta(warnings=list(self._log.meta.get("warnings", [])) + [message])
 
     def plot_shape(self, model, filename: str = "shape.png", view: str = "3d", title: str = "") -> str:
         """PNG of the current centre lines over the reference ones (rank 0

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -29,10 +30,21 @@ from .convergence import GroupTolerances
 from .linear_solver import LinearSolver, event_counts
 from .model import Model
 from .options import Options
+from .stability import Inertia, critical_modes, factor_inertia
 
 
 class ConvergenceError(RuntimeError):
     """A load step could not be completed even with the smallest step."""
+
+
+class StabilityWarning(UserWarning):
+    """A converged equilibrium is unstable (negative eigenvalues)."""
+
+
+def max_op():
+    from mpi4py import MPI
+
+    return MPI.MAX
 
 
 #: Reasons of a failed attempt that are not SNES's own.
@@ -112,6 +124,19 @@ class SolverOptions(Options):
         Extra PETSc options for this solver's SNES/KSP/PC, e.g.
         {"snes_linesearch_type": "basic"} (applied with the solver's prefix);
         command-line -snes_*, -ksp_*, -pc_* options also apply.
+    stability_check:
+        "auto": after every converged step, count the negative eigenvalues of
+        the tangent from its LDL^T factorization (free when the scene's
+        tangent is symmetric; not checked otherwise); recorded per step
+        (``StepRecord.stability``, results.json) with a warning the first
+        time stability is lost. "off": no check.
+    branch_switching:
+        When a converged step is found unstable (more negative eigenvalues
+        than the step before: a bifurcation was passed), perturb it along the
+        critical modes (SLEPc) and solve again at the same load, so that
+        Newton settles on the stable branch (e.g. the buckled column instead
+        of the straight one). Tried with amplitudes ``branch_amplitudes``
+        (fractions of the longest fibre) and both signs.
     verbose:
         Print one progress line per step on rank 0.
     """
@@ -138,6 +163,9 @@ class SolverOptions(Options):
     krylov_max_it: int = 40
     low_rank_tolerance: float = 0.0
     petsc_options: dict = field(default_factory=dict)
+    stability_check: str = "auto"
+    branch_switching: bool = False
+    branch_amplitudes: tuple = (0.01, 0.05, 0.2, 0.5, 1.0)
     verbose: bool = True
 
     kind = "solver"
@@ -151,7 +179,8 @@ class SolverOptions(Options):
             raise ValueError("SolverOptions: need 0 < cut < 1 and grow >= 1")
         choices = dict(newton=("standard", "mip"), predictor=("secant", "none"),
                        linear_solver=("mumps", "superlu_dist", "petsc"),
-                       factorization=("auto", "lu", "cholesky"))
+                       factorization=("auto", "lu", "cholesky"),
+                       stability_check=("auto", "off"))
         for name, allowed in choices.items():
             if getattr(self, name) not in allowed:
                 raise ValueError(f"SolverOptions.{name} must be one of {allowed}, "
@@ -182,6 +211,9 @@ class StepRecord:
     effects: dict = field(default_factory=dict)
     #: per group: residual norm at convergence (see textile.convergence)
     residuals: dict = field(default_factory=dict)
+    #: negative eigenvalues of the tangent (None: not checked), and whether
+    #: the step was moved to another branch (textile.stability)
+    stability: dict = field(default_factory=dict)
 
     @property
     def reason(self) -> str:
@@ -232,6 +264,9 @@ class Solver:
         self.on_step = on_step
         self.history: list[StepRecord] = []
         self._previous = None  # (load factor, state) of the step before the last
+        self._negative = 0     # negative eigenvalues at the last converged step
+        self._first_increment = None  # (dt, du) of the first converged step
+        self._warned_unstable = False
         model.setup()
         model.newton = self.options.newton
         self.comm = model.comm
@@ -342,7 +377,7 @@ class Solver:
         errors = [e for e in self.comm.allgather(error) if e]
         return self.comm.allreduce(changed), (errors[0] if errors else "")
 
-    def step_to(self, t: float) -> Attempt:
+    def step_to(self, t: float, predict: bool = True) -> Attempt:
         """One load-step attempt at load factor t from the current state:
         effects prepare (at the converged state), predictor, then Newton
         (loop 3) repeated while an effect updates what Newton held fixed
@@ -358,7 +393,7 @@ class Solver:
         # the converged state is the linearization point of the predictor
         m.set_linearization_point()
         prev = self._previous
-        if o.predictor == "secant" and prev is not None and prev[0] < m.load_factor:
+        if predict and o.predictor == "secant" and prev is not None and prev[0] < m.load_factor:
             t_prev, x_prev = prev
             # x += (t - t_n) / (t_n - t_prev) * (x_n - x_prev)
             m.x.axpy((t - m.load_factor) / (m.load_factor - t_prev), m.x - x_prev)
@@ -406,6 +441,168 @@ class Solver:
                            f"after {o.max_updates} Newton solves")
         return attempt
 
+    # -- stability ---------------------------------------------------------------
+    def _inertia(self) -> Inertia:
+        if self.options.stability_check == "off":
+            return Inertia(None)
+        return factor_inertia(self.snes.getKSP())
+
+    def _check_stability(self, t: float) -> dict:
+        """At a converged step: count negative eigenvalues, warn the first
+        time stability is lost, switch branch if asked."""
+        o = self.options
+        inertia = self._inertia()
+        out = dict(negative_eigenvalues=inertia.negative, branch_switched=False)
+        if not inertia.checked:
+            return out
+        before = self._negative
+        if inertia.negative > before and o.branch_switching:
+            switched = self._switch_branch(t, inertia.negative, before)
+            if switched is not None:
+                inertia = switched
+                out.update(negative_eigenvalues=inertia.negative, branch_switched=True)
+        if inertia.negative > 0 and not self._warned_unstable:
+            self._warned_unstable = True
+            hint = ("" if o.branch_switching else
+                    "; SolverOptions(branch_switching=True) follows the stable branch")
+            self._warn(f"stability lost at t={t:.6g}: the tangent has {inertia.negative} "
+                       f"negative eigenvalue(s), the equilibrium followed is unstable (a "
+                       f"bifurcation or limit point was passed){hint}")
+        self._negative = inertia.negative
+        return out
+
+    def _load_pattern(self, t: float) -> PETSc.Vec:
+        """d(external load)/dt at the current state: minus the residual's
+        derivative in the load factor (a finite difference; exact for dead
+        loads), zero on constrained rows."""
+        m = self.model
+        h = 1e-6 * max(abs(t), 1.0)
+        r0, r1 = m.b.duplicate(), m.b.duplicate()
+        m.residual(None, m.x, r0)
+        m.load_factor = t + h
+        m._constraint_cache = None
+        m.residual(None, m.x, r1)
+        m.load_factor = t
+        m._constraint_cache = None
+        m.residual(None, m.x, m.b)  # leave the model's residual at t
+        f = r0
+        f.axpy(-1.0, r1)
+        f.scale(1.0 / h)
+        f.getArray()[m.residual_groups.rows["constraints"]] = 0.0
+        r1.destroy()
+        return f
+
+    def _switch_branch(self, t: float, negative: int, before: int) -> Inertia | None:
+        """Perturb the unstable converged state along its critical modes and
+        solve again at the same load; the first stable answer is kept.
+
+        The direction is the part of the load pattern f along the critical
+        modes, d = sum_i (phi_i . f) phi_i, oriented so that the load does
+        positive work along it: an imperfection (a small lateral force)
+        picks its own branch, as the physical structure would; a perfect
+        structure falls back to the first mode, both signs."""
+        m, o = self.model, self.options
+        idx, _ = m._owned_constrained(m.load_factor)
+        rows = m.layout.lgmap.apply(idx.astype(PETSc.IntType))
+        values, modes = critical_modes(m.A, rows, negative - before, self.comm)
+        if not modes:
+            return None
+        f = self._load_pattern(t)
+        d = modes[0].duplicate()
+        d.set(0.0)
+        for mode in modes:
+            d.axpy(mode.dot(f), mode)
+        work = d.dot(f)
+        directions = [d, -d] if work > 1e-12 * f.norm() * d.norm() \
+            else [modes[0], -modes[0]]
+        unstable = m.x.copy()
+        length = max(f_.length for f_ in m.mesh.fibres)
+        positions = m.residual_groups.rows["positions"]
+        stable = []  # (state, inertia) of stable equilibria found
+        for amplitude in o.branch_amplitudes:
+            for direction in directions:
+                scale = self.comm.allreduce(
+                    float(np.abs(direction.getArray(readonly=True)[positions]).max(initial=0.0)),
+                    op=max_op())
+                if scale == 0:
+                    continue
+                unstable.copy(m.x)
+                m.x.axpy(amplitude * length / scale, direction)
+                for e in m.effects:
+                    e.restore(m)
+                attempt = self.step_to(t, predict=False)
+                inertia = self._inertia()
+                if attempt.converged and inertia.checked and inertia.negative <= before:
+                    stable.append((m.x.copy(), inertia))
+            if stable:
+                break
+        if not stable:
+            unstable.copy(m.x)
+            self._warn(f"branch switching at t={t:.6g} found no stable equilibrium near the "
+                       f"unstable one (amplitudes {o.branch_amplitudes} of the fibre length)")
+            return None
+        # of several stable equilibria, the one of least potential energy
+        best, inertia = stable[0]
+        for x, i in stable[1:]:
+            if self._energy_difference(best, x) < 0:
+                best, inertia = x, i
+        best.copy(m.x)
+        for e in m.effects:
+            e.restore(m)
+        attempt = self.step_to(t, predict=False)  # effects and tangent at the chosen state
+        self._log(f"    branch switched at t={t:.6g} along the critical mode(s) "
+                  f"(eigenvalue {values[0]:.3g})")
+        return self._inertia() if attempt.converged else inertia
+
+    def _energy_difference(self, xa: PETSc.Vec, xb: PETSc.Vec) -> float:
+        """Potential energy of state b minus state a (same load factor):
+        the residual integrated along the straight path between them (4-point
+        Gauss), over the free unknowns (exact for conservative effects)."""
+        m = self.model
+        dx = xb.copy()
+        dx.axpy(-1.0, xa)
+        free = np.ones(len(dx.getArray()), dtype=bool)
+        free[m.residual_groups.rows["constraints"]] = False
+        x = xa.duplicate()
+        r = m.b.duplicate()
+        total = 0.0
+        points, weights = np.polynomial.legendre.leggauss(4)
+        for p, w in zip(points, weights):
+            xa.copy(x)
+            x.axpy(0.5 * (p + 1.0), dx)
+            m.residual(None, x, r)
+            total += 0.5 * w * float(np.dot(r.getArray(readonly=True)[free],
+                                            dx.getArray(readonly=True)[free]))
+        return self.comm.allreduce(total)
+
+    def _diagnose(self, t: float) -> str:
+        """Why the path may have ended, from the converged steps: the
+        current stiffness parameter (Bergan) S = (f.du_1/dt_1) / (f.du_n/dt_n),
+        the stiffness along the load pattern f relative to the first step's,
+        falls to 0 at a limit point; and the last state's stability."""
+        notes = []
+        if self._negative:
+            notes.append(f"the last converged state is unstable ({self._negative} negative "
+                         f"eigenvalue(s) of the tangent)")
+        if self._first_increment is not None and self._previous is not None:
+            dt1, du1 = self._first_increment
+            t_prev, x_prev = self._previous
+            dun = self.model.x - x_prev
+            f = self._load_pattern(t)
+            c1, cn = f.dot(du1) / dt1, f.dot(dun) / (t - t_prev)
+            if c1 > 0 and cn != 0 and c1 / cn < 0.2:
+                notes.append(f"the stiffness along the load has fallen to {100 * c1 / cn:.1f}% "
+                             f"of its initial value (current stiffness parameter): a limit point "
+                             f"(the largest load this structure carries) is near; load control "
+                             f"cannot pass it: prescribe displacements instead")
+        return "".join(f"; {n}" for n in notes)
+
+    def _warn(self, message: str) -> None:
+        if self.comm.rank == 0:
+            warnings.warn(message, StabilityWarning, stacklevel=3)
+        if self.output is not None:
+            self.output.warning(message)
+
     def solve(self, t_end: float = 1.0) -> list[StepRecord]:
         """Advance from the current load factor to ``t_end`` (default 1)."""
         o, m = self.options, self.model
@@ -431,15 +628,20 @@ class Solver:
                           f"cutting to dt={dt:.3g}")
                 if dt < o.min_step:
                     msg = (f"load step from t={t:.6g} did not converge even with dt < "
-                           f"min_step={o.min_step:g}; last attempt: {attempt.describe()}; "
+                           f"min_step={o.min_step:g}; last attempt: {attempt.describe()}"
+                           f"{self._diagnose(t)}; "
                            f"{len(self.history)} converged steps are kept")
                     if self.output is not None:
                         self.output.failure(msg)
                     raise ConvergenceError(msg)
                 continue
+            stability = self._check_stability(t + step)
             for e in m.effects:
                 e.commit(m)
-            self._previous = (t, x_saved.copy())
+            # no secant predictor across a jump to another branch
+            self._previous = None if stability["branch_switched"] else (t, x_saved.copy())
+            if self._first_increment is None:
+                self._first_increment = (step, m.x - x_saved)
             t += step
             m.x.copy(x_saved)
             stats = {}
@@ -448,7 +650,7 @@ class Solver:
             rec = StepRecord(len(self.history) + 1, t, attempt.iterations, attempts,
                              attempt.residual_norms, time.perf_counter() - t0, attempt.reason,
                              self.comm.allreduce(m.beam.energy), attempt.updates, stats,
-                             m.residual_groups.as_dict(m.residual_norms))
+                             m.residual_groups.as_dict(m.residual_norms), stability)
             self.history.append(rec)
             self._counts["accepted_steps"] += 1
             attempts = 0
