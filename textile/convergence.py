@@ -8,9 +8,18 @@ unit decide, and a fixed absolute tolerance cannot fit every mesh: the
 round-off floor of assembled internal forces grows with the stiffness of the
 discretization. So each *group* is tested on its own:
 
-    |r_g| <= max(rtol |r_g,0|,  floor_g,  atol_g)
+    |r_g| <= max(rtol F_g,  floor_g,  atol_g)
 
-- ``r_g,0``: the group's residual at the start of the Newton solve;
+(the floor counts only once Newton has stopped moving: the last update
+below ``floor_update`` times the size of the unknowns as the kernels see
+them, |q|)
+
+- ``F_g``: the group's force scale, the norm of the external generalized
+  forces applied on it and of its support reactions (for the constrained
+  rows, whose residual is a length: the size of the unknowns |q|). Not the
+  step's first residual: a poor predictor (a large rotation extrapolated)
+  makes that huge, and a very slender fibre would then be accepted far
+  from equilibrium in bending;
 - ``floor_g = floor_factor * eps * | (|K| |q|)_g |``: the round-off floor,
   eps times the size of the terms that make up the internal forces, with K
   the last assembled tangent and q the unknowns as the kernels see them
@@ -47,11 +56,19 @@ class ResidualGroups:
     names: list[str]
     rows: dict[str, np.ndarray]
     scale: dict[str, float]
+    #: positions, in this rank's list of constrained rows, of each group's
+    #: reactions
+    reactions: dict[str, np.ndarray]
 
     def norms(self, owned: np.ndarray) -> np.ndarray:
         """2-norm of each group of the owned array (collective)."""
         local = np.array([float(np.dot(owned[self.rows[n]], owned[self.rows[n]]))
                           for n in self.names])
+        return np.sqrt(self.comm.allreduce(local, op=MPI.SUM))
+
+    def reaction_norms(self, reactions: np.ndarray) -> np.ndarray:
+        """2-norm of each group's support reactions (collective)."""
+        local = np.array([float(np.sum(reactions[self.reactions[n]] ** 2)) for n in self.names])
         return np.sqrt(self.comm.allreduce(local, op=MPI.SUM))
 
     def as_dict(self, values: np.ndarray) -> dict[str, float]:
@@ -65,11 +82,16 @@ class GroupTolerances:
     rtol: float = 1e-10
     atol: float = 1e-13
     floor_factor: float = 10.0
+    floor_update: float = 1e-8
 
-    def converged(self, norms: np.ndarray, first: np.ndarray, floors: np.ndarray | None,
-                  scales: np.ndarray) -> np.ndarray:
-        """Per group: is the residual below its threshold?"""
-        limit = np.maximum(self.rtol * first, self.atol * scales)
-        if floors is not None:
+    def converged(self, norms: np.ndarray, reference: np.ndarray, floors: np.ndarray | None,
+                  scales: np.ndarray, settled: bool = True) -> np.ndarray:
+        """Per group: is the residual below its threshold? ``settled``: the
+        last Newton update was negligible; only then does the round-off floor
+        count (a residual can dip to the floor of the stiff axial forces in
+        the middle of an oscillating Newton sequence while a compliant mode,
+        e.g. the bending of a very slender fibre, is still far off)."""
+        limit = np.maximum(self.rtol * reference, self.atol * scales)
+        if floors is not None and settled:
             limit = np.maximum(limit, self.floor_factor * EPS * floors)
         return norms <= limit

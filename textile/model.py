@@ -162,6 +162,7 @@ class Model:
                                         else np.zeros(f.size_ghosted) for f in self.layout.fields])
         self.residual_norms = None
         self.residual_floors = None
+        self.force_reference = None
         self.domain_error: Exception | None = None
         self._ready = True
 
@@ -221,23 +222,32 @@ class Model:
         return out
 
     def _setup_residual_groups(self) -> None:
-        """Rows of the owned global vector by group (see textile.convergence)."""
-        owned_constrained = np.unique(self._owned_position(self._owned_constrained(0.0)[0]))
-        rows, scale, start = {}, {}, 0
+        """Rows of the owned global vector by group (see textile.convergence):
+        the free rows of each group, and which reactions (constrained rows,
+        in the order of ``_owned_constrained``) belong to it."""
+        constrained = self._owned_position(self._owned_constrained(0.0)[0])
+        owned_constrained = np.unique(constrained)
+        rows, scale, reactions, start = {}, {}, {}, 0
         rmax = max(f.radius for f in self.mesh.fibres)
+
+        def split(name, free_rows, force_scale, select):
+            rows[name], scale[name] = free_rows, force_scale
+            reactions[name] = np.flatnonzero(select)
+
         for f in self.layout.fields:
             pos = np.arange(start, start + f.size_local)
             free = pos[~np.isin(pos, owned_constrained)]
+            mine = (constrained >= start) & (constrained < start + f.size_local)
             if f.name == "beam":
-                comp = (free - start) % 9
-                rows["positions"], scale["positions"] = free[comp < 3], self.force_scale
-                rows["sections"], scale["sections"] = free[comp >= 3], self.force_scale * rmax
+                comp, rcomp = (free - start) % 9, (constrained - start) % 9
+                split("positions", free[comp < 3], self.force_scale, mine & (rcomp < 3))
+                split("sections", free[comp >= 3], self.force_scale * rmax, mine & (rcomp >= 3))
             else:
-                rows[f.name], scale[f.name] = free, self.force_scale
+                split(f.name, free, self.force_scale, mine)
             start += f.size_local
-        rows["constraints"] = owned_constrained.astype(np.int64)
-        scale["constraints"] = max(f.length for f in self.mesh.fibres)
-        self.residual_groups = ResidualGroups(self.comm, list(rows), rows, scale)
+        split("constraints", owned_constrained.astype(np.int64),
+              max(f.length for f in self.mesh.fibres), np.zeros(len(constrained), dtype=bool))
+        self.residual_groups = ResidualGroups(self.comm, list(rows), rows, scale, reactions)
 
     def state(self, x: PETSc.Vec | None = None) -> State:
         """Local view of the unknowns in x (default: the model's solution)."""
@@ -316,6 +326,7 @@ class Model:
         try:
             for e in self.effects:
                 e.residual(st, local)
+            applied = self._applied_forces(st)
         except _cpp.GeometryError as exc:
             error = exc
         # collective: every rank must take the same branch
@@ -341,6 +352,25 @@ class Model:
             # the load step is then cut, never accepted
             barr[~np.isfinite(barr)] = np.inf
         self.residual_norms = self.residual_groups.norms(barr)
+        # the force scale of each group: applied loads and support reactions
+        self.force_reference = np.hypot(applied, self.residual_groups.reaction_norms(
+            self._reaction_values))
+
+    def _applied_forces(self, st: State) -> np.ndarray:
+        """Norm per residual group of the external generalized forces the
+        effects apply at this state (collective)."""
+        loads = [e for e in self.effects if type(e).external is not Effect.external]
+        if not loads:
+            return np.zeros(len(self.residual_groups.names))
+        ext = {f.name: np.zeros(f.size_ghosted) for f in self.layout.fields}
+        for e in loads:
+            e.external(st, ext)
+        v = self.layout.create_vector()
+        self.layout.scatter(v, [ext[f.name] for f in self.layout.fields])
+        v.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        out = self.residual_groups.norms(v.getArray(readonly=True))
+        v.destroy()
+        return out
 
     def _owned_position(self, stacked_local: np.ndarray) -> np.ndarray:
         """Map stacked local indices of owned dofs to positions in the owned

@@ -267,6 +267,8 @@ class Solver:
         self._negative = 0     # negative eigenvalues at the last converged step
         self._first_increment = None  # (dt, du) of the first converged step
         self._warned_unstable = False
+        self._warned_singular = False
+        self._spurious = 0     # negative pivots known to be zero eigenvalues
         model.setup()
         model.newton = self.options.newton
         self.comm = model.comm
@@ -331,9 +333,14 @@ class Solver:
             return PETSc.SNES.ConvergedReason.DIVERGED_FNORM_NAN
         g = m.residual_norms
         if it == 0:
-            self._first_norms = g.copy()
-        if np.all(self.tolerances.converged(g, self._first_norms, m.residual_floors,
-                                            self._scales)):
+            # the size of the unknowns as the kernels see them (positions):
+            # the scale of a negligible Newton update and of the constraint rows
+            self._q_norm = m.x.norm() + m._X_q.norm()
+        settled = it > 0 and ynorm <= self.tolerances.floor_update * self._q_norm
+        reference = m.force_reference.copy()
+        reference[m.residual_groups.names.index("constraints")] = self._q_norm
+        if np.all(self.tolerances.converged(g, reference, m.residual_floors, self._scales,
+                                            settled)):
             return PETSc.SNES.ConvergedReason.CONVERGED_FNORM_ABS
         if it > 0 and ynorm <= o.stol * xnorm:
             return PETSc.SNES.ConvergedReason.CONVERGED_SNORM_RELATIVE
@@ -456,6 +463,15 @@ class Solver:
         if not inertia.checked:
             return out
         before = self._negative
+        if inertia.negative > before + self._spurious:
+            raw = inertia.negative
+            inertia = self._confirm(inertia)
+            # negative pivots that are round-off of zero eigenvalues
+            self._spurious = raw - inertia.negative
+            out["negative_eigenvalues"] = inertia.negative
+        else:
+            inertia = Inertia(max(inertia.negative - self._spurious, 0), inertia.zero)
+            out["negative_eigenvalues"] = inertia.negative
         if inertia.negative > before and o.branch_switching:
             switched = self._switch_branch(t, inertia.negative, before)
             if switched is not None:
@@ -470,6 +486,27 @@ class Solver:
                        f"bifurcation or limit point was passed){hint}")
         self._negative = inertia.negative
         return out
+
+    def _confirm(self, inertia: Inertia) -> Inertia:
+        """New negative pivots may be round-off of zero eigenvalues (a fibre
+        free to turn rigidly about its axis): the eigenvalues nearest zero
+        (SLEPc) within 1e3 eps max|K_ii| of it are zero modes, not negative
+        ones; warn once about them."""
+        m = self.model
+        idx, _ = m._owned_constrained(m.load_factor)
+        rows = m.layout.lgmap.apply(idx.astype(PETSc.IntType))
+        values, _ = critical_modes(m.A, rows, inertia.negative + 1, self.comm)
+        diag = m.A.getDiagonal()
+        scale = max(abs(diag.max()[1]), abs(diag.min()[1]))
+        diag.destroy()
+        threshold = 1e3 * float(np.finfo(float).eps) * scale
+        zero = sum(abs(v) <= threshold for v in values)
+        if zero and not self._warned_singular:
+            self._warned_singular = True
+            self._warn(f"the tangent is singular at t={self.model.load_factor:.6g}: {zero} "
+                       f"zero-energy mode(s) (a fibre free to move or turn rigidly? check the "
+                       f"supports)")
+        return Inertia(max(inertia.negative - zero, 0), zero)
 
     def _load_pattern(self, t: float) -> PETSc.Vec:
         """d(external load)/dt at the current state: minus the residual's

@@ -80,6 +80,11 @@ class Effect:
     def residual(self, state: State, b: dict[str, np.ndarray]) -> None:
         """Add the residual into the local arrays ``b[field]`` (owned+ghost)."""
 
+    def external(self, state: State, b: dict[str, np.ndarray]) -> None:
+        """Add the external generalized forces the effect applies (loads,
+        positive along the load) into ``b[field]``: the force scale of the
+        Newton convergence test. Only effects that apply loads override it."""
+
     def jacobian(self, state: State, A: PETSc.Mat) -> None:
         """Add the tangent into A using ``state.dofs`` (local numbering)."""
 

@@ -37,6 +37,9 @@ class NodalForces(Effect):
     def residual(self, state: State, b) -> None:
         np.add.at(b["beam"], self._idx, -state.load_factor * self._val)
 
+    def external(self, state: State, b) -> None:
+        np.add.at(b["beam"], self._idx, state.load_factor * self._val)
+
 
 class EndMoments(Effect):
     """Moments applied to node sections through their section vectors.
@@ -68,6 +71,11 @@ class EndMoments(Effect):
         for l, M in self._local:
             f, _ = _cpp.end_moment(state.load_factor * M, self._g(state, l))
             b["beam"][9 * l + 3:9 * l + 9] -= f
+
+    def external(self, state: State, b) -> None:
+        for l, M in self._local:
+            f, _ = _cpp.end_moment(state.load_factor * M, self._g(state, l))
+            b["beam"][9 * l + 3:9 * l + 9] += f
 
     def jacobian(self, state: State, A) -> None:
         for l, M in self._local:

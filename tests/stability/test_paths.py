@@ -1,0 +1,126 @@
+"""Equilibrium paths: bifurcations and limit points are seen and named.
+
+Cases 2 and 3 of the stability issue: load control past a bifurcation used
+to stay on the unstable straight branch without a word, and limit points
+were not named.
+"""
+import warnings
+
+import numpy as np
+import pytest
+import scipy.special
+from mpi4py import MPI
+
+import textile
+from textile.solver import StabilityWarning
+
+from . import guard
+
+E, NU, R, L = 1.0e9, 0.3, 1e-3, 0.5
+EI = E * np.pi * R ** 4 / 4
+P_CR = np.pi ** 2 * EI / (4 * L ** 2)  # clamped-free column
+
+
+def column(load=1.6, lateral=1e-4, elements=16):
+    fib = textile.straight_fibre([0, 0, 0], [L, 0, 0], R, textile.Material(E, NU),
+                                 num_elements=elements)
+    model = textile.Model(fib, comm=MPI.COMM_SELF)
+    model.clamp(fib, 0)
+    model.add_force(fib, -1, [-load * P_CR, 0, lateral * P_CR])
+    return fib, model
+
+
+def elastica_load(fib, model) -> float:
+    """P/P_cr of the inextensible elastica at the column's tip rotation
+    alpha (REFERENCES.md 4): (2 K(sin(alpha/2)) / pi)^2."""
+    x = model.centreline(fib)
+    t = x[-1] - x[-2]
+    alpha = np.arctan2(abs(t[2]), t[0])
+    return (2 * scipy.special.ellipk(np.sin(alpha / 2) ** 2) / np.pi) ** 2
+
+
+@pytest.mark.parametrize("dt", [0.05, 0.25])
+def test_unstable_branch_is_reported(out, dt):
+    """Past P_cr with large steps the column stays straight: an unstable
+    equilibrium. It must be recorded per step and warned about once."""
+    fib, model = column()
+    solver = textile.Solver(model, dict(initial_step=dt, max_step=dt, verbose=False),
+                            output=textile.Output(out))
+    with pytest.warns(StabilityWarning, match="stability lost at t=.*negative eigenvalue"):
+        solver.solve()
+    data = guard.clean_output(out, solver)
+    neg = [s["negative_eigenvalues"] for s in data["steps"]]
+    t = [s["load_factor"] for s in data["steps"]]
+    # stable below P_cr (t < 1/1.6), two negative eigenvalues above (the round
+    # section buckles in two planes), none unchecked
+    assert all(n == 0 for n, ti in zip(neg, t) if ti < 0.6)
+    assert all(n == 2 for n, ti in zip(neg, t) if ti > 0.65)
+    assert any("stability lost" in w for w in data["meta"]["warnings"])
+    assert abs(model.centreline(fib)[-1, 2]) < 1e-3 * L  # still straight
+    guard.newton_count(f"unstable_branch_reported_dt{dt}", solver)
+
+
+@pytest.mark.parametrize("dt", [0.05, 0.25])
+def test_branch_switching_follows_the_buckled_column(out, dt):
+    """With branch switching the column leaves the unstable straight branch
+    along its critical mode, on the side the lateral force pushes, and ends
+    on the elastica."""
+    fib, model = column()
+    solver = textile.Solver(model, dict(initial_step=dt, max_step=dt, verbose=False,
+                                        branch_switching=True), output=textile.Output(out))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", StabilityWarning)  # never unstable
+        solver.solve()
+    data = guard.clean_output(out, solver)
+    assert all(s["negative_eigenvalues"] == 0 for s in data["steps"])
+    assert sum(s["branch_switched"] for s in data["steps"]) == 1
+    assert model.centreline(fib)[-1, 2] > 0.5 * L  # buckled towards +z, the lateral force
+    # 1.6 P_cr on the elastica: measured 0.045% off (extensibility, shear, the
+    # 1e-4 lateral force); the unstable straight branch is 60% off
+    assert elastica_load(fib, model) == pytest.approx(1.6, rel=2e-3)
+    guard.newton_count(f"branch_switching_dt{dt}", solver)
+
+
+def bar(elements=2):
+    """A bar held straight (lateral dofs fixed): compression has a limit
+    point at stretch 1/sqrt(3), N = -0.19245 E A (REFERENCES.md 1)."""
+    fib = textile.straight_fibre([0, 0, 0], [0.05, 0, 0], R, textile.Material(E, NU),
+                                 num_elements=elements, section_vector=[0, 1, 0])
+    model = textile.Model(fib, comm=MPI.COMM_SELF)
+    model.fix(fib, 0, ["position", "g1x", "g1z", "g2x", "g2y"])
+    for i in range(1, fib.num_nodes):
+        model.fix(fib, i, ["y", "z"])
+    return fib, model, E * np.pi * R ** 2
+
+
+def test_force_past_the_limit_point_is_named(out):
+    fib, model, EA = bar()
+    model.add_force(fib, -1, [-0.3 * EA, 0, 0])
+    solver = textile.Solver(model, dict(initial_step=0.25, max_step=0.25, min_step=1e-3,
+                                        verbose=False), output=textile.Output(out))
+    with pytest.raises(textile.ConvergenceError, match="DIVERGED_MAX_IT.*limit point"):
+        solver.solve()
+    guard.clean_output(out, solver, failed="limit point")
+    # the last converged load is below the limit load 0.19245 E A
+    assert 0.55 < solver.history[-1].load_factor < 0.19245 / 0.3
+    guard.newton_count("limit_point_force", solver)
+
+
+def test_displacement_past_the_limit_point_is_flagged(out):
+    """Displacement-driven, the bar can be squeezed past the limit point;
+    each element then has a negative axial stiffness: flagged from the first
+    step beyond stretch 1/sqrt(3) = 0.577."""
+    fib, model, EA = bar(elements=4)
+    model.fix(fib, -1, "x", -0.6 * 0.05)
+    solver = textile.Solver(model, dict(initial_step=0.05, max_step=0.05, verbose=False),
+                            output=textile.Output(out))
+    with pytest.warns(StabilityWarning, match="limit point"):
+        solver.solve()
+    data = guard.clean_output(out, solver)
+    for s in data["steps"]:
+        stretch = 1 - 0.6 * s["load_factor"]
+        if stretch > 0.6:
+            assert s["negative_eigenvalues"] == 0
+        elif stretch < 0.56:
+            assert s["negative_eigenvalues"] > 0
+    guard.newton_count("limit_point_displacement", solver)
