@@ -47,6 +47,7 @@ class Model:
         self._forces = NodalForces()
         self._moments = EndMoments()
         self._effects: list[Effect] = []
+        self._rigid = None
         # prescribed beam dofs: global node -> {dof: value or callable}
         self._fixed: dict[tuple[int, int], object] = {}
         self._ready = False
@@ -106,6 +107,26 @@ class Model:
         if m.shape != (3,) or not np.all(np.isfinite(m)):
             raise ValueError(f"moment must be a finite 3-vector, got {moment!r}")
         self._moments.add(self.mesh.node(fibre, node), m)
+
+    def add_rigid_body(self, body) -> None:
+        """Add a :class:`textile.RigidBody` (its unknowns, couplings, loads)."""
+        self._check_open()
+        if self._rigid is None:
+            from .effects.rigid_bodies import RigidBodies
+
+            self._rigid = RigidBodies()
+            self._effects.append(self._rigid)
+        self._rigid.add(body)
+
+    @property
+    def rigid_bodies(self):
+        """The scene's :class:`~textile.effects.rigid_bodies.RigidBodies`, or None."""
+        return self._rigid
+
+    @property
+    def saddle_point_rows(self) -> int:
+        """Negative eigenvalues the scene's multipliers add to the tangent."""
+        return sum(e.saddle_point_rows() for e in self.effects if hasattr(e, "saddle_point_rows"))
 
     def add_effect(self, effect: Effect) -> None:
         """Add a physics term (e.g. an elastic matrix block, a junction)."""

@@ -452,7 +452,12 @@ class Solver:
     def _inertia(self) -> Inertia:
         if self.options.stability_check == "off":
             return Inertia(None)
-        return factor_inertia(self.snes.getKSP())
+        inertia = factor_inertia(self.snes.getKSP())
+        if inertia.checked:
+            # a saddle point (multipliers) has one negative eigenvalue per
+            # constraint row by construction (Sylvester)
+            inertia.negative -= self.model.saddle_point_rows
+        return inertia
 
     def _check_stability(self, t: float) -> dict:
         """At a converged step: count negative eigenvalues, warn the first

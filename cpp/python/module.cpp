@@ -219,4 +219,5 @@ PYBIND11_MODULE(_cpp, m)
       "callback, so the callback may set it");
 
   declare_contact(m);
+  declare_rigid(m);
 }

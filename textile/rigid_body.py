@@ -1,0 +1,147 @@
+"""Rigid bodies: what a body holds and how each of its components is driven.
+
+A rigid body has six unknowns: the displacement (x, y, z) of its reference
+centre and its rotation (rx, ry, rz), carried as an incremental rotation
+vector on top of the rotation accumulated over the accepted steps (exact
+for any total rotation; :mod:`textile.effects.rigid_bodies`). It holds
+
+- fibre end *sections* (a fibre node whose position and section vectors
+  follow the body exactly: the end is clamped to the body), and
+- *pins* (a fibre node whose position only follows the body).
+
+Each component is either prescribed (a displacement, or a rotation angle
+about the fixed global axis x, y or z, reached at load factor 1 or given as
+a callable of the load factor) or free and loaded by a dead force or a
+moment fixed in space (scaled by the load factor). Prescribed rotations are
+accumulated as increments about the fixed global axes, step by step: exact
+for rotations about one axis, of any size. The body's reaction (the force
+and moment it exerts on what it holds, about its current centre) is
+reported every step.
+
+Units: lengths and forces as in the model; angles in radians.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+#: Names of a body's six components, in storage order.
+BODY_DOFS = ("x", "y", "z", "rx", "ry", "rz")
+#: Groups of components accepted wherever they are named.
+BODY_GROUPS = {"translation": (0, 1, 2), "rotation": (3, 4, 5), "all": tuple(range(6))}
+
+
+def body_dof_indices(dofs) -> tuple[int, ...]:
+    """Indices (0..5) of component names or groups; ValueError otherwise."""
+    if isinstance(dofs, str):
+        dofs = [dofs]
+    out = []
+    for d in dofs:
+        if isinstance(d, str) and d in BODY_GROUPS:
+            out.extend(BODY_GROUPS[d])
+        elif isinstance(d, str) and d in BODY_DOFS:
+            out.append(BODY_DOFS.index(d))
+        else:
+            raise ValueError(f"unknown rigid-body component {d!r}; use one of {BODY_DOFS} or a "
+                             f"group {tuple(BODY_GROUPS)}")
+    return tuple(dict.fromkeys(out))
+
+
+class RigidBody:
+    """A rigid body (see the module docstring).
+
+    Parameters
+    ----------
+    name:
+        Label used in outputs (unique in a model).
+    sections:
+        (fibre, node) pairs whose sections the body clamps (fibre object or
+        index; node index, negative from the end).
+    pins:
+        (fibre, node) pairs whose positions only the body carries.
+    centre:
+        Reference centre (3,); default: the mean reference position of what
+        the body holds.
+    """
+
+    def __init__(self, name: str, sections=(), pins=(), centre=None):
+        if not isinstance(name, str) or not name:
+            raise ValueError(f"RigidBody: name must be a non-empty string, got {name!r}")
+        self.name = name
+        self.sections = self._pairs(sections, "sections")
+        self.pins = self._pairs(pins, "pins")
+        if not self.sections and not self.pins:
+            raise ValueError(f"RigidBody {name!r} holds nothing: give sections or pins")
+        if centre is not None:
+            c = np.asarray(centre, dtype=float)
+            if c.shape != (3,) or not np.all(np.isfinite(c)):
+                raise ValueError(f"RigidBody {name!r}: centre must be a finite 3-vector")
+            centre = c
+        self.centre = centre
+        #: component -> displacement / angle at load factor 1, or (callable, k)
+        self.prescribed: dict[int, object] = {}
+        self.force = np.zeros(3)
+        self.moment = np.zeros(3)
+
+    @staticmethod
+    def _pairs(pairs, label: str) -> list:
+        try:
+            out = [(f, n) for f, n in pairs]
+        except (TypeError, ValueError) as e:
+            raise ValueError(f"RigidBody: {label} must be (fibre, node) pairs") from e
+        return out
+
+    def prescribe(self, dofs="all", value=0.0) -> "RigidBody":
+        """Prescribe components: displacement of the centre (x, y, z) or
+        rotation angle about the global axis (rx, ry, rz), reached at load
+        factor 1 (scalar or one value per component), or a callable
+        ``t -> values``."""
+        idx = body_dof_indices(dofs)
+        if callable(value):
+            for k, d in enumerate(idx):
+                self.prescribed[d] = (value, k)
+            return self
+        vals = np.broadcast_to(np.asarray(value, dtype=float), (len(idx),))
+        if not np.all(np.isfinite(vals)):
+            raise ValueError(f"RigidBody {self.name!r}: prescribed values must be finite")
+        for d, v in zip(idx, vals):
+            self.prescribed[d] = float(v)
+        return self
+
+    def fix(self, dofs="all") -> "RigidBody":
+        """Hold components at their reference value (a clamp)."""
+        return self.prescribe(dofs, 0.0)
+
+    def add_force(self, force) -> "RigidBody":
+        """Dead force on the centre (reached at load factor 1)."""
+        self.force = self.force + self._vector(force, "force")
+        return self
+
+    def add_moment(self, moment) -> "RigidBody":
+        """Moment fixed in space (reached at load factor 1)."""
+        self.moment = self.moment + self._vector(moment, "moment")
+        return self
+
+    def _vector(self, v, label) -> np.ndarray:
+        a = np.asarray(v, dtype=float)
+        if a.shape != (3,) or not np.all(np.isfinite(a)):
+            raise ValueError(f"RigidBody {self.name!r}: {label} must be a finite 3-vector, "
+                             f"got {v!r}")
+        return a
+
+    def values(self, t: float) -> dict[int, float]:
+        """Prescribed component -> value at load factor t."""
+        out = {}
+        for d, v in self.prescribed.items():
+            if isinstance(v, tuple):
+                fun, k = v
+                out[d] = float(np.atleast_1d(np.asarray(fun(t), dtype=float))[k])
+                if not np.isfinite(out[d]):
+                    raise ValueError(f"RigidBody {self.name!r}: prescribed value of "
+                                     f"{BODY_DOFS[d]} is not finite at t={t}")
+            else:
+                out[d] = t * v
+        return out
+
+    def __repr__(self) -> str:
+        return (f"RigidBody({self.name!r}, {len(self.sections)} sections, {len(self.pins)} pins, "
+                f"prescribed {[BODY_DOFS[d] for d in sorted(self.prescribed)]})")
