@@ -20,6 +20,7 @@ from .element import BeamElement
 from .fibre import Fibre
 from .fibre_mesh import FibreMesh, dof_indices
 from .layout import DofLayout, Field, SparsityBuilder
+from .loading import Handle, Schedule
 
 
 class Model:
@@ -48,8 +49,10 @@ class Model:
         self._moments = EndMoments()
         self._effects: list[Effect] = []
         self._rigid = None
-        # prescribed beam dofs: global node -> {dof: value or callable}
-        self._fixed: dict[tuple[int, int], object] = {}
+        # prescribed beam dofs: one schedule component per (global node, dof)
+        self._prescribed = Schedule("prescribed displacements")
+        self._prescribed_keys: list[tuple[int, int]] = []
+        self._prescribed_index: dict[tuple[int, int], int] = {}
         self._ready = False
         self.load_factor = 0.0
         #: Newton variant of the tangents SNES asks for: "standard" (exact
@@ -63,50 +66,61 @@ class Model:
         if self._ready:
             raise RuntimeError("the model is already assembled: define the scene before solving")
 
-    def fix(self, fibre, node: int, dofs="all", value=0.0) -> None:
+    def fix(self, fibre, node: int, dofs="all", value=0.0) -> Handle:
         """Prescribe node unknowns' displacement.
 
         ``dofs``: names ("x", "g1y", ...), groups ("position", "g1", "g2",
         "section", "all") or indices 0..8. ``value``: displacement reached at
-        load factor 1 (scalar, one per dof, or a callable ``t -> values``);
-        the displacement at load factor t is t * value.
+        the end of the first stage, ramped from 0 (scalar or one per dof), or
+        a callable ``s -> values`` of the load factor. Returns the handle
+        with which stages ramp or release the prescription
+        (:mod:`textile.loading`). Fixing a dof again replaces its value.
         """
         self._check_open()
         idx = dof_indices(dofs)
         g = self.mesh.node(fibre, node)
+        comps = []
+        for d in idx:
+            if (g, d) not in self._prescribed_index:
+                self._prescribed_index[(g, d)] = len(self._prescribed_keys)
+                self._prescribed_keys.append((g, d))
+                self._prescribed.add(0.0, f"node {g} dof {d}")
+            comps.append(self._prescribed_index[(g, d)])
+        handle = Handle(self._prescribed, np.array(comps), f"fibre {fibre} node {node} {idx}")
         if callable(value):
-            for k, d in enumerate(idx):
-                self._fixed[(g, d)] = (value, k)
-            return
-        vals = np.broadcast_to(np.asarray(value, dtype=float), (len(idx),))
-        if not np.all(np.isfinite(vals)):
-            raise ValueError("value contains NaN or infinite numbers")
-        for d, v in zip(idx, vals):
-            self._fixed[(g, d)] = float(v)
+            self._prescribed.follow(handle, value)
+        else:
+            vals = np.broadcast_to(np.asarray(value, dtype=float), (len(idx),))
+            if not np.all(np.isfinite(vals)):
+                raise ValueError("value contains NaN or infinite numbers")
+            self._prescribed.ramp(handle, vals)
+        return handle
 
-    def clamp(self, fibre, node: int) -> None:
+    def clamp(self, fibre, node: int) -> Handle:
         """Fix position and section vectors of a node (a clamped end)."""
-        self.fix(fibre, node, "all", 0.0)
+        return self.fix(fibre, node, "all", 0.0)
 
-    def add_force(self, fibre, node: int, force, dofs="position") -> None:
+    def add_force(self, fibre, node: int, force, dofs="position") -> Handle:
         """Dead force on a node: a 3-vector on its position by default, or
-        one value per named dof. Reached at load factor 1."""
+        one value per named dof, reached at the end of the first stage.
+        Returns its handle (stages ramp or hold it)."""
         self._check_open()
         idx = dof_indices(dofs)
         f = np.asarray(force, dtype=float).ravel()
         if f.shape != (len(idx),) or not np.all(np.isfinite(f)):
             raise ValueError(f"force must hold {len(idx)} finite values, got {force!r}")
         g = self.mesh.node(fibre, node)
-        for d, v in zip(idx, f):
-            self._forces.add(g, d, v)
+        return self._forces.add(g, idx, f, f"force on fibre {fibre} node {node}")
 
-    def add_end_moment(self, fibre, node: int, moment) -> None:
-        """Moment vector (fixed in space) on a node's section, reached at load factor 1."""
+    def add_end_moment(self, fibre, node: int, moment) -> Handle:
+        """Moment vector (fixed in space) on a node's section, reached at the
+        end of the first stage; returns its handle."""
         self._check_open()
         m = np.asarray(moment, dtype=float)
         if m.shape != (3,) or not np.all(np.isfinite(m)):
             raise ValueError(f"moment must be a finite 3-vector, got {moment!r}")
-        self._moments.add(self.mesh.node(fibre, node), m)
+        return self._moments.add(self.mesh.node(fibre, node), m,
+                                 f"moment on fibre {fibre} node {node}")
 
     def add_rigid_body(self, body) -> None:
         """Add a :class:`textile.RigidBody` (its unknowns, couplings, loads)."""
@@ -128,6 +142,55 @@ class Model:
         """Negative eigenvalues the scene's multipliers add to the tangent."""
         return sum(e.saddle_point_rows() for e in self.effects if hasattr(e, "saddle_point_rows"))
 
+    # -- stages ------------------------------------------------------------
+    def schedules(self) -> list[Schedule]:
+        """Every schedule of the scene: prescribed displacements, nodal
+        forces, end moments and the effects' own (rigid bodies, ...)."""
+        out = [self._prescribed]
+        for e in self.effects:
+            if hasattr(e, "schedules"):
+                out += e.schedules()
+        return out
+
+    def begin_stage(self, stage) -> bool:
+        """Apply a :class:`textile.loading.Stage` (targets, releases, effect
+        options) at the current state, load factor 0. Returns True when the
+        set of prescribed unknowns changed (the system matrix is then new)."""
+        self.setup()
+        self.load_factor = 0.0
+        before = {k: v.copy() for k, v in self._constrained_dofs.items()}
+        stage.apply()
+        self._constraint_cache = None
+        self._setup_constraints()
+        changed = before.keys() != self._constrained_dofs.keys() or any(
+            len(before[k]) != len(v) or np.any(before[k] != v)
+            for k, v in self._constrained_dofs.items())
+        if changed:
+            self._setup_residual_groups()
+            self._rebuild_pattern()
+        return changed
+
+    def finish_stage(self) -> None:
+        """The stage is complete: every quantity's end value becomes the
+        start of the next stage (held unless that stage says otherwise)."""
+        for s in self.schedules():
+            s.finish_stage()
+        self._constraint_cache = None
+        self.load_factor = 0.0
+
+    def _rebuild_pattern(self) -> None:
+        """A new system matrix from the effects' sparsity (a released
+        prescription needs its rows' full pattern back)."""
+        sp = SparsityBuilder(self.layout)
+        for e in self.effects:
+            e.add_sparsity(sp)
+        if self.A is not self._A_base:
+            self.A.destroy()
+        self._A_base.destroy()
+        self.A = sp.create_matrix()
+        self._A_base = self.A
+        self.matrix_stale = any(e.dynamic_sparsity for e in self.effects)
+
     def add_effect(self, effect: Effect) -> None:
         """Add a physics term (e.g. an elastic matrix block, a junction)."""
         self._check_open()
@@ -148,7 +211,7 @@ class Model:
         out: list[Effect] = [self.beam]
         if self._forces._items:
             out.append(self._forces)
-        if self._moments._items:
+        if self._moments._nodes:
             out.append(self._moments)
         return out + self._effects
 
@@ -188,30 +251,23 @@ class Model:
         self._ready = True
 
     def _setup_constraints(self) -> None:
-        """Prescribed beam dofs as arrays: constants scale with t, each
-        callable is called once per evaluation for all the dofs it drives."""
+        """The prescribed beam dofs of this rank (active components of the
+        schedule), and the constrained set every effect sees."""
         mesh = self.mesh
-        keys = sorted(self._fixed)
-        nodes = np.array([k[0] for k in keys], dtype=np.int64)
+        keys = [(k, key) for k, key in enumerate(self._prescribed_keys)
+                if self._prescribed.active[k]]
+        nodes = np.array([key[0] for _, key in keys], dtype=np.int64)
         local = mesh.global_to_local(nodes) if keys else np.zeros(0, dtype=np.int64)
         have = local >= 0
-        keys = [k for k, h in zip(keys, have) if h]
-        self._beam_fixed_local = np.array([9 * l + k[1] for l, k in zip(local[have], keys)],
+        self._beam_fixed_local = np.array([9 * l + key[1] for l, (_, key) in
+                                           zip(local[have], [k for k, h in zip(keys, have) if h])],
                                           dtype=np.int64)
-        values = [self._fixed[k] for k in keys]
-        self._fixed_constant = np.array([0.0 if isinstance(v, tuple) else v for v in values])
-        groups: dict[int, tuple] = {}
-        for i, v in enumerate(values):
-            if isinstance(v, tuple):
-                fun, k = v
-                groups.setdefault(id(fun), (fun, [], []))
-                groups[id(fun)][1].append(i)
-                groups[id(fun)][2].append(k)
-        self._fixed_callables = [(fun, np.array(pos), np.array(comp))
-                                 for fun, pos, comp in groups.values()]
+        self._beam_fixed_components = np.array([k for (k, _), h in zip(keys, have) if h],
+                                               dtype=np.int64)
         self._constraint_cache: tuple | None = None
-        # the set of constrained dofs is fixed for the run (values change
-        # with t): every effect sees the same mask
+        self._beam_global_dofs = None
+        # the set of constrained dofs is fixed within a stage (values change
+        # with s): every effect sees the same mask
         self._constrained_dofs = {name: dofs for name, (dofs, _)
                                   in self._constraints(self.load_factor).items()}
         self._masked_dofs = {}
@@ -225,12 +281,7 @@ class Model:
         """Field -> (local unrolled dofs, prescribed displacement at t)."""
         if self._constraint_cache is not None and self._constraint_cache[0] == t:
             return self._constraint_cache[1]
-        vals = t * self._fixed_constant
-        for fun, pos, comp in self._fixed_callables:
-            v = np.atleast_1d(np.asarray(fun(t), dtype=float))
-            if not np.all(np.isfinite(v)):
-                raise ValueError(f"a prescribed displacement callable returned {v!r} at t={t}")
-            vals[pos] = v[comp]
+        vals = self._prescribed.values(t)[self._beam_fixed_components]
         out = {"beam": (self._beam_fixed_local, vals)}
         for e in self._effects:
             for name, (dofs, v) in e.constraints(t).items():

@@ -82,8 +82,9 @@ class Output:
             name = f"fibres_{record.step:05d}.vtu"
             path = os.path.join(self.directory, name)
             write_fibres_vtu(path, lines, point_data=point_data, cell_data=fields)
-            self._pvd.add(record.load_factor, path)
-        self._log.append(dict(step=record.step, load_factor=record.load_factor,
+            self._pvd.add(record.time, path)
+        self._log.append(dict(step=record.step, stage=record.stage, time=record.time,
+                              load_factor=record.load_factor,
                               newton_iterations=record.newton_iterations,
                               attempts=record.attempts, wall_time=record.wall_time,
                               final_residual=record.residual_norms[-1] if record.residual_norms
@@ -115,7 +116,7 @@ class Output:
             "tangential_force": d["tangential_force"], "slip": d["slip"].astype(np.int32),
             "penalty": d["penalty"], "fibre_i": d["fibre_i"].astype(np.int32),
             "fibre_j": d["fibre_j"].astype(np.int32)})
-        self._contact_pvd.add(record.load_factor, name)
+        self._contact_pvd.add(record.time, name)
 
     def _segment_fields(self, model) -> dict | None:
         """Element fields mapped to polyline segments (an element of order p

@@ -10,9 +10,11 @@ for any total rotation; :mod:`textile.effects.rigid_bodies`). It holds
 - *pins* (a fibre node whose position only follows the body).
 
 Each component is either prescribed (a displacement, or a rotation angle
-about the fixed global axis x, y or z, reached at load factor 1 or given as
-a callable of the load factor) or free and loaded by a dead force or a
-moment fixed in space (scaled by the load factor). Prescribed rotations are
+about the fixed global axis x, y or z, reached at the end of the first
+stage or given as a callable of the load factor) or free and loaded by a
+dead force or a moment fixed in space. Both live in schedules
+(:mod:`textile.loading`): later stages ramp, hold or release them through the
+handles that ``prescribe``, ``add_force`` and ``add_moment`` return. Prescribed rotations are
 accumulated as increments about the fixed global axes, step by step: exact
 for rotations about one axis, of any size. The body's reaction (the force
 and moment it exerts on what it holds, about its current centre) is
@@ -23,6 +25,8 @@ Units: lengths and forces as in the model; angles in radians.
 from __future__ import annotations
 
 import numpy as np
+
+from .loading import Handle, Schedule
 
 #: Names of a body's six components, in storage order.
 BODY_DOFS = ("x", "y", "z", "rx", "ry", "rz")
@@ -77,10 +81,13 @@ class RigidBody:
                 raise ValueError(f"RigidBody {name!r}: centre must be a finite 3-vector")
             centre = c
         self.centre = centre
-        #: component -> displacement / angle at load factor 1, or (callable, k)
-        self.prescribed: dict[int, object] = {}
-        self.force = np.zeros(3)
-        self.moment = np.zeros(3)
+        #: the six components' prescribed values (inactive: free)
+        self.prescriptions = Schedule(f"body {name} prescribed")
+        self._components = self.prescriptions.add(np.zeros(6), f"body {name}")
+        self.prescriptions.active[:] = False
+        #: force (3) and moment (3) applied to the body
+        self.loads = Schedule(f"body {name} loads")
+        self._loads = self.loads.add(np.zeros(6), f"body {name} loads")
 
     @staticmethod
     def _pairs(pairs, label: str) -> list:
@@ -90,36 +97,53 @@ class RigidBody:
             raise ValueError(f"RigidBody: {label} must be (fibre, node) pairs") from e
         return out
 
-    def prescribe(self, dofs="all", value=0.0) -> "RigidBody":
+    def prescribe(self, dofs="all", value=0.0) -> Handle:
         """Prescribe components: displacement of the centre (x, y, z) or
-        rotation angle about the global axis (rx, ry, rz), reached at load
-        factor 1 (scalar or one value per component), or a callable
-        ``t -> values``."""
-        idx = body_dof_indices(dofs)
+        rotation angle about the global axis (rx, ry, rz), reached at the end
+        of the first stage (scalar or one value per component), or a callable
+        ``s -> values``. Returns the handle stages use to ramp or release
+        them."""
+        idx = np.array(body_dof_indices(dofs))
+        handle = Handle(self.prescriptions, idx, f"body {self.name} {[BODY_DOFS[d] for d in idx]}")
         if callable(value):
-            for k, d in enumerate(idx):
-                self.prescribed[d] = (value, k)
-            return self
-        vals = np.broadcast_to(np.asarray(value, dtype=float), (len(idx),))
-        if not np.all(np.isfinite(vals)):
-            raise ValueError(f"RigidBody {self.name!r}: prescribed values must be finite")
-        for d, v in zip(idx, vals):
-            self.prescribed[d] = float(v)
-        return self
+            self.prescriptions.follow(handle, value)
+        else:
+            vals = np.broadcast_to(np.asarray(value, dtype=float), (len(idx),))
+            if not np.all(np.isfinite(vals)):
+                raise ValueError(f"RigidBody {self.name!r}: prescribed values must be finite")
+            self.prescriptions.ramp(handle, vals)
+        self.prescriptions.active[idx] = True
+        return handle
 
     def fix(self, dofs="all") -> "RigidBody":
-        """Hold components at their reference value (a clamp)."""
-        return self.prescribe(dofs, 0.0)
-
-    def add_force(self, force) -> "RigidBody":
-        """Dead force on the centre (reached at load factor 1)."""
-        self.force = self.force + self._vector(force, "force")
+        """Hold components at their reference value (a clamp); returns the
+        body (chainable; ``prescribe`` returns a handle)."""
+        self.prescribe(dofs, 0.0)
         return self
 
-    def add_moment(self, moment) -> "RigidBody":
-        """Moment fixed in space (reached at load factor 1)."""
-        self.moment = self.moment + self._vector(moment, "moment")
-        return self
+    def add_force(self, force) -> Handle:
+        """Dead force on the centre (reached at the end of the first stage);
+        returns the handle of the body's force."""
+        f = self._vector(force, "force")
+        self.loads.target[0:3] += f
+        return Handle(self.loads, np.arange(3), f"body {self.name} force")
+
+    def add_moment(self, moment) -> Handle:
+        """Moment fixed in space (reached at the end of the first stage);
+        returns the handle of the body's moment."""
+        m = self._vector(moment, "moment")
+        self.loads.target[3:6] += m
+        return Handle(self.loads, np.arange(3, 6), f"body {self.name} moment")
+
+    @property
+    def prescribed(self) -> np.ndarray:
+        """Indices of the components prescribed now."""
+        return np.flatnonzero(self.prescriptions.active)
+
+    @property
+    def has_moment(self) -> bool:
+        return bool(np.any(self.loads.start[3:6]) or np.any(self.loads.target[3:6])
+                    or self.loads._callables)
 
     def _vector(self, v, label) -> np.ndarray:
         a = np.asarray(v, dtype=float)
@@ -128,20 +152,6 @@ class RigidBody:
                              f"got {v!r}")
         return a
 
-    def values(self, t: float) -> dict[int, float]:
-        """Prescribed component -> value at load factor t."""
-        out = {}
-        for d, v in self.prescribed.items():
-            if isinstance(v, tuple):
-                fun, k = v
-                out[d] = float(np.atleast_1d(np.asarray(fun(t), dtype=float))[k])
-                if not np.isfinite(out[d]):
-                    raise ValueError(f"RigidBody {self.name!r}: prescribed value of "
-                                     f"{BODY_DOFS[d]} is not finite at t={t}")
-            else:
-                out[d] = t * v
-        return out
-
     def __repr__(self) -> str:
         return (f"RigidBody({self.name!r}, {len(self.sections)} sections, {len(self.pins)} pins, "
-                f"prescribed {[BODY_DOFS[d] for d in sorted(self.prescribed)]})")
+                f"prescribed {[BODY_DOFS[d] for d in self.prescribed]})")

@@ -17,6 +17,7 @@ its traceback.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 import warnings
@@ -28,6 +29,7 @@ from petsc4py import PETSc
 from . import _cpp
 from .convergence import GroupTolerances
 from .linear_solver import LinearSolver, event_counts
+from .loading import Stage
 from .model import Model
 from .options import Options
 from .stability import Inertia, critical_modes, factor_inertia
@@ -214,6 +216,10 @@ class StepRecord:
     #: negative eigenvalues of the tangent (None: not checked), and whether
     #: the step was moved to another branch (textile.stability)
     stability: dict = field(default_factory=dict)
+    #: the stage this step belongs to, and the run's time (stage number +
+    #: the stage's load factor: continuous over stages)
+    stage: str = "load"
+    time: float = 0.0
 
     @property
     def reason(self) -> str:
@@ -266,6 +272,10 @@ class Solver:
         self._previous = None  # (load factor, state) of the step before the last
         self._negative = 0     # negative eigenvalues at the last converged step
         self._first_increment = None  # (dt, du) of the first converged step
+        self._base_options = self.options
+        self._stage = Stage("load")   # the implicit first stage
+        self._stage_index = 0
+        self._stage_started = False
         self._warned_unstable = False
         self._warned_singular = False
         self._spurious = 0     # negative pivots known to be zero eigenvalues
@@ -645,8 +655,53 @@ class Solver:
         if self.output is not None:
             self.output.warning(message)
 
+    # -- stages ------------------------------------------------------------------
+    #: options a stage may change (the linear solver is set once)
+    STAGE_OPTIONS = {"initial_step", "min_step", "max_step", "grow", "cut", "easy_iterations",
+                     "max_it", "max_updates", "newton", "predictor", "branch_switching",
+                     "branch_amplitudes", "verbose"}
+
+    def run(self, stages) -> list[StepRecord]:
+        """Run a sequence of :class:`textile.loading.Stage`, each from load
+        factor 0 to 1, continuing from the state the previous one left."""
+        for stage in stages:
+            self.run_stage(stage)
+        return self.history
+
+    def run_stage(self, stage: Stage) -> list[StepRecord]:
+        """Start ``stage`` where the current one ended and solve it to its
+        end. The current stage must be complete (load factor 1), unless
+        nothing has been solved yet."""
+        if not isinstance(stage, Stage):
+            raise TypeError(f"expected a textile.Stage, got {type(stage).__name__}")
+        m = self.model
+        unknown = set(stage.solver) - self.STAGE_OPTIONS
+        if unknown:
+            raise ValueError(f"Stage {stage.name!r}: solver options {sorted(unknown)} cannot "
+                             f"change between stages; allowed: {sorted(self.STAGE_OPTIONS)}")
+        if self._stage_started:
+            if m.load_factor < 1.0 - 1e-14:
+                raise RuntimeError(f"stage {self._stage.name!r} stopped at load factor "
+                                   f"{m.load_factor:.6g}: finish it before starting "
+                                   f"{stage.name!r}")
+            m.finish_stage()
+            self._stage_index += 1
+        self._stage = stage
+        if m.begin_stage(stage):
+            # the prescribed set changed: a new matrix for the new rows
+            self.snes.setJacobian(self._jacobian, *self.linear.operators(m.A))
+        self.options = dataclasses.replace(self._base_options, **stage.solver)
+        self._previous = None  # no secant predictor across stages
+        self._log(f"stage {self._stage_index}: {stage.name}")
+        try:
+            return self.solve(1.0)
+        finally:
+            self.options = self._base_options
+
     def solve(self, t_end: float = 1.0) -> list[StepRecord]:
-        """Advance from the current load factor to ``t_end`` (default 1)."""
+        """Advance the current stage from its load factor to ``t_end``
+        (default 1, the stage's end)."""
+        self._stage_started = True
         o, m = self.options, self.model
         if not (isinstance(t_end, (int, float)) and math.isfinite(t_end)):
             raise ValueError(f"t_end must be a finite number, got {t_end!r}")
@@ -692,7 +747,8 @@ class Solver:
             rec = StepRecord(len(self.history) + 1, t, attempt.iterations, attempts,
                              attempt.residual_norms, time.perf_counter() - t0, attempt.reason,
                              self.comm.allreduce(m.beam.energy), attempt.updates, stats,
-                             m.residual_groups.as_dict(m.residual_norms), stability)
+                             m.residual_groups.as_dict(m.residual_norms), stability,
+                             self._stage.name, self._stage_index + t)
             self.history.append(rec)
             self._counts["accepted_steps"] += 1
             attempts = 0

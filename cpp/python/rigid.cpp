@@ -44,14 +44,18 @@ void declare_rigid(py::module_& m)
   py::class_<RigidBodySet>(m, "RigidBodySet")
       .def(py::init<>())
       .def(
-          "set_bodies",
-          [](RigidBodySet& self, const carray<double>& centres, const carray<double>& forces,
-             const carray<double>& moments)
+          "set_centres",
+          [](RigidBodySet& self, const carray<double>& centres)
           {
-            const std::size_t n = centres.size() / 3;
-            self.centres.resize(n);
-            for (std::size_t b = 0; b < n; ++b)
+            self.centres.resize(centres.size() / 3);
+            for (std::size_t b = 0; b < self.centres.size(); ++b)
               self.centres[b] = vec3(centres, b);
+          },
+          py::arg("centres"), "Reference centres of all local bodies")
+      .def(
+          "set_loads",
+          [](RigidBodySet& self, const carray<double>& forces, const carray<double>& moments)
+          {
             self.forces.clear();
             self.moments.clear();
             for (std::size_t b = 0; b < forces.size() / 3; ++b)
@@ -60,9 +64,8 @@ void declare_rigid(py::module_& m)
               self.moments.push_back(vec3(moments, b));
             }
           },
-          py::arg("centres"), py::arg("forces"), py::arg("moments"),
-          "Reference centres of all local bodies; loads (at load factor 1) only where the "
-          "bodies are owned (empty elsewhere)")
+          py::arg("forces"), py::arg("moments"),
+          "Current body loads, only where the bodies are owned (empty elsewhere)")
       .def(
           "set_couplings",
           [](RigidBodySet& self, const carray<int>& body, const carray<std::int32_t>& node,
@@ -90,27 +93,27 @@ void declare_rigid(py::module_& m)
           py::arg("scale_section"))
       .def(
           "assemble_vector",
-          [](const RigidBodySet& self, double t, const carray<double>& X, const carray<double>& u,
+          [](const RigidBodySet& self, const carray<double>& X, const carray<double>& u,
              const carray<double>& w, const carray<double>& lam, py::array_t<double>& b_fibre,
              py::array_t<double>& b_body, py::array_t<double>& b_lambda)
           {
-            self.assemble_vector(t, cspan(X), cspan(u), cspan(w), cspan(lam), out_span(b_fibre),
+            self.assemble_vector(cspan(X), cspan(u), cspan(w), cspan(lam), out_span(b_fibre),
                                  out_span(b_body), out_span(b_lambda));
           },
-          py::arg("load_factor"), py::arg("X"), py::arg("u_fibre"), py::arg("u_body"),
-          py::arg("multipliers"), py::arg("b_fibre"), py::arg("b_body"), py::arg("b_multipliers"))
+          py::arg("X"), py::arg("u_fibre"), py::arg("u_body"), py::arg("multipliers"),
+          py::arg("b_fibre"), py::arg("b_body"), py::arg("b_multipliers"))
       .def(
           "assemble_matrix",
-          [](const RigidBodySet& self, Mat A, double t, const carray<double>& X,
-             const carray<double>& u, const carray<double>& w, const carray<double>& lam,
+          [](const RigidBodySet& self, Mat A, const carray<double>& X, const carray<double>& u,
+             const carray<double>& w, const carray<double>& lam,
              const carray<std::int32_t>& dofs_fibre, const carray<std::int32_t>& dofs_body,
              const carray<std::int32_t>& dofs_lambda)
           {
-            self.assemble_matrix(A, t, cspan(X), cspan(u), cspan(w), cspan(lam),
+            self.assemble_matrix(A, cspan(X), cspan(u), cspan(w), cspan(lam),
                                  cspan(dofs_fibre), cspan(dofs_body), cspan(dofs_lambda));
           },
-          py::arg("A"), py::arg("load_factor"), py::arg("X"), py::arg("u_fibre"),
-          py::arg("u_body"), py::arg("multipliers"), py::arg("dofs_fibre"), py::arg("dofs_body"),
+          py::arg("A"), py::arg("X"), py::arg("u_fibre"), py::arg("u_body"),
+          py::arg("multipliers"), py::arg("dofs_fibre"), py::arg("dofs_body"),
           py::arg("dofs_multipliers"))
       .def(
           "reactions",

@@ -94,6 +94,13 @@ class Effect:
         Return True if anything was added (the model then assembles b)."""
         return False
 
+    def configure(self, **options) -> None:
+        """Options set by a stage (:class:`textile.loading.Stage`), e.g. the
+        contact mode; effects without stage options refuse any."""
+        if options:
+            raise ValueError(f"{type(self).__name__} takes no stage options, got "
+                             f"{sorted(options)}")
+
     # -- load-step protocol (METHOD.md section 4) ------------------------
     def prepare(self, model) -> None:
         """Start of a load-step attempt, at the predicted state: set up what

@@ -49,7 +49,11 @@ class RigidBodies(Effect):
 
     @property
     def symmetric_tangent(self) -> bool:
-        return not any(np.any(b.moment) for b in self.bodies)
+        return not any(b.has_moment for b in self.bodies)
+
+    def schedules(self) -> list:
+        """The schedules of the bodies' prescriptions and loads (stages)."""
+        return [s for b in self.bodies for s in (b.prescriptions, b.loads)]
 
     # -- layout --------------------------------------------------------------
     def add_fields(self, model) -> list:
@@ -111,10 +115,7 @@ class RigidBodies(Effect):
         self._scale_position = scale
         self._scale_section = scale * radius ** 2 if held else scale
         self.set = _cpp.RigidBodySet()
-        owner = comm.rank == 0
-        self.set.set_bodies(self.centres,
-                            np.array([b.force for b in self.bodies]) if owner else np.zeros((0, 3)),
-                            np.array([b.moment for b in self.bodies]) if owner else np.zeros((0, 3)))
+        self.set.set_centres(self.centres)
         self._set_couplings()
         self._X = np.ascontiguousarray(mesh.X_local.ravel())
         self._saddle = comm.allreduce(int(rows.sum()) if len(rows) else 0)
@@ -134,22 +135,35 @@ class RigidBodies(Effect):
     def constraints(self, load_factor: float) -> dict:
         dofs, vals = [], []
         for b, body in enumerate(self.bodies):
-            for d, v in body.values(load_factor).items():
+            values = body.prescriptions.values(load_factor)
+            for d in body.prescribed:
                 dofs.append(6 * b + d)
                 # rotations: the increment still to make about the fixed axis
-                vals.append(v - self.turned[b, d - 3] if d >= 3 else v)
+                vals.append(values[d] - self.turned[b, d - 3] if d >= 3 else values[d])
         return {"rigid": (np.array(dofs, dtype=np.int64), np.array(vals))}
 
+    def _loads(self, s: float) -> np.ndarray:
+        """(bodies, 6) current force and moment, on the bodies' owner (rank
+        0) only: elsewhere (0, 6), so that each load is added once."""
+        if self.model.comm.rank != 0:
+            return np.zeros((0, 6))
+        return np.array([body.loads.values(s) for body in self.bodies]).reshape(-1, 6)
+
+    def _set_loads(self, s: float) -> None:
+        loads = self._loads(s)
+        self.set.set_loads(np.ascontiguousarray(loads[:, 0:3]),
+                           np.ascontiguousarray(loads[:, 3:6]))
+
     def residual(self, state: State, b) -> None:
-        self.set.assemble_vector(state.load_factor, self._X, state.u["beam"], state.u["rigid"],
+        self._set_loads(state.load_factor)
+        self.set.assemble_vector(self._X, state.u["beam"], state.u["rigid"],
                                  state.u["rigid_multipliers"], b["beam"], b["rigid"],
                                  b["rigid_multipliers"])
 
     def external(self, state: State, b) -> None:
-        if self.model.comm.rank == 0:
-            for k, body in enumerate(self.bodies):
-                b["rigid"][6 * k:6 * k + 3] += state.load_factor * body.force
-                b["rigid"][6 * k + 3:6 * k + 6] += state.load_factor * body.moment
+        loads = self._loads(state.load_factor)
+        if len(loads):
+            b["rigid"][:6 * len(loads)] += loads.ravel()
 
     def add_sparsity(self, sparsity) -> None:
         for i, (node, body, section) in enumerate(zip(self._node_local, self._body,
@@ -166,7 +180,8 @@ class RigidBodies(Effect):
                                 np.array([k], dtype=np.int32))
 
     def jacobian(self, state: State, A) -> None:
-        self.set.assemble_matrix(A, state.load_factor, self._X, state.u["beam"], state.u["rigid"],
+        self._set_loads(state.load_factor)
+        self.set.assemble_matrix(A, self._X, state.u["beam"], state.u["rigid"],
                                  state.u["rigid_multipliers"], state.dofs["beam"],
                                  state.dofs["rigid"], state.dofs["rigid_multipliers"])
 

@@ -52,7 +52,7 @@ void RigidBodySet::each(std::span<const double> X, std::span<const double> u_fib
   }
 }
 
-void RigidBodySet::assemble_vector(double t, std::span<const double> X,
+void RigidBodySet::assemble_vector(std::span<const double> X,
                                    std::span<const double> u_fibre,
                                    std::span<const double> u_body,
                                    std::span<const double> lambda, std::span<double> b_fibre,
@@ -73,10 +73,10 @@ void RigidBodySet::assemble_vector(double t, std::span<const double> X,
   for (std::size_t b = 0; b < forces.size(); ++b)
   {
     for (int k = 0; k < 3; ++k)
-      b_body[6 * b + k] -= t * forces[b](k);
+      b_body[6 * b + k] -= forces[b](k);
     if (moments[b].squaredNorm() > 0)
     {
-      const Eigen::Vector3d M = t * moments[b];
+      const Eigen::Vector3d& M = moments[b];
       std::array<double, 3> r{};
       body_moment(u_body.subspan(6 * b + 3, 3), std::span<const double>(M.data(), 3), r, {});
       for (int k = 0; k < 3; ++k)
@@ -85,7 +85,7 @@ void RigidBodySet::assemble_vector(double t, std::span<const double> X,
   }
 }
 
-void RigidBodySet::assemble_matrix(Mat A, double t, std::span<const double> X,
+void RigidBodySet::assemble_matrix(Mat A, std::span<const double> X,
                                    std::span<const double> u_fibre,
                                    std::span<const double> u_body,
                                    std::span<const double> lambda,
@@ -112,7 +112,7 @@ void RigidBodySet::assemble_matrix(Mat A, double t, std::span<const double> X,
   {
     if (moments[b].squaredNorm() == 0)
       continue;
-    const Eigen::Vector3d M = t * moments[b];
+    const Eigen::Vector3d& M = moments[b];
     std::array<double, 3> r{};
     std::array<double, 9> K{};
     body_moment(u_body.subspan(6 * b + 3, 3), std::span<const double>(M.data(), 3), r, K);

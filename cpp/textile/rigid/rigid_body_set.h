@@ -44,18 +44,18 @@ class RigidBodySet
 public:
   std::vector<Coupling> couplings;
   std::vector<Eigen::Vector3d> centres; ///< reference centres C, per local body
-  std::vector<Eigen::Vector3d> forces;  ///< dead force at load factor 1, per body
-  std::vector<Eigen::Vector3d> moments; ///< moment at load factor 1, per body
+  std::vector<Eigen::Vector3d> forces;  ///< current dead force, per owned body
+  std::vector<Eigen::Vector3d> moments; ///< current moment, per owned body
 
   /// b += residual of the couplings and body loads (local arrays).
-  void assemble_vector(double load_factor, std::span<const double> X,
+  void assemble_vector(std::span<const double> X,
                        std::span<const double> u_fibre, std::span<const double> u_body,
                        std::span<const double> lambda, std::span<double> b_fibre,
                        std::span<double> b_body, std::span<double> b_lambda) const;
 
   /// A += tangent; dofs_*: stacked local index of each local unknown, -1
   /// where constrained.
-  void assemble_matrix(Mat A, double load_factor, std::span<const double> X,
+  void assemble_matrix(Mat A, std::span<const double> X,
                        std::span<const double> u_fibre, std::span<const double> u_body,
                        std::span<const double> lambda, std::span<const std::int32_t> dofs_fibre,
                        std::span<const std::int32_t> dofs_body,

@@ -1,0 +1,79 @@
+"""Runs in stages: ramp, hold, release; continuous numbering and tags."""
+import json
+
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+import textile
+
+E, NU, R, L = 1.0e9, 0.3, 1e-3, 0.2
+EI = E * np.pi * R ** 4 / 4
+F = 0.5 * EI / L ** 2  # a moderate lateral tip force
+
+
+def cantilever():
+    fib = textile.straight_fibre([0, 0, 0], [L, 0, 0], R, textile.Material(E, NU),
+                                 num_elements=8, section_vector=[0, 1, 0])
+    model = textile.Model(fib, comm=MPI.COMM_SELF)
+    model.clamp(fib, 0)
+    force = model.add_force(fib, -1, [0, 0, F])
+    return fib, model, force
+
+
+def test_hold_a_force_while_a_displacement_ramps_then_release(tmp_path):
+    fib, model, force = cantilever()
+    pull = model.fix(fib, -1, "x", 1e-4)  # a stretch, reached in the first stage
+    out = textile.Output(str(tmp_path))
+    solver = textile.Solver(model, dict(initial_step=0.25, max_step=0.5, verbose=False),
+                            output=out)
+    tension = []
+
+    def check(solver, rec):
+        # global equilibrium at every step: the clamp and the tip's support
+        # balance the lateral force, whatever the stage
+        clamp = model.reaction(fib, 0)
+        if rec.stage != "release":
+            tip = model.reaction(fib, -1, "x")
+            tension.append(-tip[0])
+            # to the convergence test's rtol 1e-10 of the reactions
+            assert clamp[0] + tip[0] == pytest.approx(0, abs=1e-9 * abs(tip[0]))
+        assert clamp[2] == pytest.approx(-F if rec.stage != "load" else -rec.load_factor * F,
+                                         rel=1e-9)
+
+    solver.on_step = check
+    solver.run([textile.Stage("load"),
+                textile.Stage("stretch", ramp={pull: 3e-4}),   # the force is held
+                textile.Stage("release", release=[pull])])
+    stages = [h.stage for h in solver.history]
+    assert stages[0] == "load" and stages[-1] == "release" and "stretch" in stages
+    # the stretch stage raised the tension (3x the end displacement)
+    assert max(tension) > 2.5 * tension[0]
+    # released: the same state as a cantilever that was never pulled (elastic)
+    fib2, model2, _ = cantilever()
+    textile.Solver(model2, dict(verbose=False)).solve()
+    assert np.abs(model.nodal_unknowns() - model2.nodal_unknowns()).max() < 1e-10 * L
+    # results.json: steps numbered continuously, tagged with their stage,
+    # time = stage number + load factor, increasing
+    steps = json.loads((tmp_path / "results.json").read_text())["steps"]
+    assert [s["step"] for s in steps] == list(range(1, len(steps) + 1))
+    assert [s["stage"] for s in steps] == stages
+    times = [s["time"] for s in steps]
+    assert np.all(np.diff(times) > 0) and times[-1] == pytest.approx(3.0)
+
+
+def test_a_stage_needs_the_previous_one_finished():
+    fib, model, force = cantilever()
+    solver = textile.Solver(model, dict(verbose=False))
+    solver.solve(0.5)
+    with pytest.raises(RuntimeError, match="stage 'load' stopped at load factor 0.5"):
+        solver.run_stage(textile.Stage("next"))
+
+
+def test_stage_errors_are_named():
+    fib, model, force = cantilever()
+    solver = textile.Solver(model, dict(verbose=False))
+    with pytest.raises(ValueError, match="cannot change between stages"):
+        solver.run_stage(textile.Stage("s", solver={"linear_solver": "petsc"}))
+    with pytest.raises(TypeError, match="ramp keys must be handles"):
+        solver.run_stage(textile.Stage("s", ramp={"force": 1.0}))

@@ -1,0 +1,163 @@
+"""How loads and prescribed values evolve over a run made of stages.
+
+A run is a sequence of *stages* (weave, release, load, ...). Within a stage
+the load factor s goes from 0 to 1. Every loading quantity of a scene (a
+prescribed displacement, a dead force, a moment, a rigid body's prescribed
+component or load) lives in a :class:`Schedule` and, during a stage, is
+
+- **ramped**: from its value at the stage start to a target, linearly in s;
+- **held**: at its value at the stage start (everything not ramped);
+- given by a callable of s (absolute values), or
+- **released** (prescriptions only): no longer prescribed from the stage
+  start on (the unknowns become free).
+
+Before any stage is declared, a scene's quantities ramp from zero to the
+values they were defined with: a plain ``Solver.solve()`` is one stage that
+applies every load, as before stages existed.
+
+A :class:`Handle` names some components of a schedule (what ``Model.fix``,
+``Model.add_force``, ``RigidBody.prescribe``, ... return); a
+:class:`Stage` says what happens to handles, effects and solver options.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+class Handle:
+    """Components ``index`` of ``schedule``: a quantity a stage can ramp,
+    hold or release."""
+
+    def __init__(self, schedule: "Schedule", index: np.ndarray, label: str):
+        self.schedule = schedule
+        self.index = np.asarray(index, dtype=np.int64)
+        self.label = label
+
+    @property
+    def value(self) -> np.ndarray:
+        """Value at the end of the last completed stage (or the start)."""
+        return self.schedule.start[self.index].copy()
+
+    def __repr__(self) -> str:
+        return f"Handle({self.label!r}, {len(self.index)} component(s))"
+
+
+class Schedule:
+    """Scalar components that follow the stages (see the module docstring).
+
+    ``target`` is where each component goes in the current stage, ``start``
+    where it was at the stage start; ``active`` is False for released
+    prescriptions.
+    """
+
+    def __init__(self, name: str):
+        self.name = name
+        self.start = np.zeros(0)
+        self.target = np.zeros(0)
+        self.active = np.zeros(0, dtype=bool)
+        self._callables: list[tuple] = []  # (fun, positions, component of fun's output)
+
+    def __len__(self) -> int:
+        return len(self.start)
+
+    def add(self, values, label: str) -> Handle:
+        """New components ramping from 0 to ``values`` in the first stage;
+        ``values`` may be a callable of s returning them all."""
+        if callable(values):
+            raise TypeError("use add_callable for callables")
+        v = np.atleast_1d(np.asarray(values, dtype=float)).ravel()
+        if not np.all(np.isfinite(v)):
+            raise ValueError(f"{label}: values must be finite, got {values!r}")
+        idx = np.arange(len(self.start), len(self.start) + len(v))
+        self.start = np.concatenate([self.start, np.zeros(len(v))])
+        self.target = np.concatenate([self.target, v])
+        self.active = np.concatenate([self.active, np.ones(len(v), dtype=bool)])
+        return Handle(self, idx, label)
+
+    def add_callable(self, fun, size: int, label: str) -> Handle:
+        """New components given by ``fun(s)`` (``size`` values) in the first
+        stage; held at their final value afterwards."""
+        h = self.add(np.zeros(size), label)
+        self._callables.append((fun, h.index, np.arange(size)))
+        return h
+
+    # -- evaluation ------------------------------------------------------------
+    def values(self, s: float) -> np.ndarray:
+        """All components at stage load factor s."""
+        v = self.start + s * (self.target - self.start)
+        for fun, pos, comp in self._callables:
+            out = np.atleast_1d(np.asarray(fun(s), dtype=float)).ravel()
+            if not np.all(np.isfinite(out)):
+                raise ValueError(f"{self.name}: a callable returned {out!r} at s={s}")
+            v[pos] = out[comp]
+        return v
+
+    # -- stages ------------------------------------------------------------------
+    def finish_stage(self) -> None:
+        """The stage is complete: its end values become the next start, held
+        unless the next stage says otherwise."""
+        self.start = self.values(1.0)
+        self.target = self.start.copy()
+        self._callables = []
+
+    def ramp(self, handle: Handle, target) -> None:
+        t = np.broadcast_to(np.asarray(target, dtype=float), (len(handle.index),))
+        if not np.all(np.isfinite(t)):
+            raise ValueError(f"{handle.label}: ramp target must be finite")
+        self.target[handle.index] = t
+        self._callables = [c for c in self._callables if not np.isin(c[1], handle.index).any()]
+
+    def follow(self, handle: Handle, fun) -> None:
+        """Components given by ``fun(s)`` during this stage."""
+        self._callables.append((fun, handle.index, np.arange(len(handle.index))))
+
+    def release(self, handle: Handle) -> None:
+        self.active[handle.index] = False
+
+
+@dataclass
+class Stage:
+    """One stage of a run.
+
+    Attributes
+    ----------
+    name:
+        Label in outputs (results.json, ParaView field data).
+    ramp:
+        Handle -> target value at the stage end (or a callable of s giving
+        the value during the stage); every other quantity is held.
+    release:
+        Prescription handles no longer prescribed from the stage start.
+    effects:
+        Effect -> options set at the stage start (``effect.configure``), e.g.
+        the weaving contact mode in one stage, ordinary contact in the next.
+    solver:
+        Solver options for this stage (initial_step, max_step, ...).
+    """
+
+    name: str
+    ramp: dict = field(default_factory=dict)
+    release: list = field(default_factory=list)
+    effects: dict = field(default_factory=dict)
+    solver: dict = field(default_factory=dict)
+
+    def apply(self) -> bool:
+        """Set the targets and releases of the stage's handles; returns True
+        when a release changes the set of prescribed unknowns."""
+        for h, target in self.ramp.items():
+            if not isinstance(h, Handle):
+                raise TypeError(f"Stage {self.name!r}: ramp keys must be handles (what "
+                                f"Model.fix, Model.add_force, ... return), got {h!r}")
+            if callable(target):
+                h.schedule.follow(h, target)
+            else:
+                h.schedule.ramp(h, target)
+        for h in self.release:
+            if not isinstance(h, Handle):
+                raise TypeError(f"Stage {self.name!r}: release items must be handles, got {h!r}")
+            h.schedule.release(h)
+        for effect, options in self.effects.items():
+            effect.configure(**options)
+        return bool(self.release)
