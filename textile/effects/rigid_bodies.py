@@ -200,6 +200,46 @@ class RigidBodies(Effect):
         model.layout.scatter(model.x, arrays)
         self._statistics(model)
 
+    # -- saved states (textile.io.state_file) ----------------------------------
+    state_name = "rigid bodies"
+
+    def save_state(self, model) -> dict:
+        """Bodies' unknowns and accumulated rotations, multipliers by
+        coupling (body, fibre node): independent of the MPI partition.
+        Collective; the result is complete on rank 0."""
+        st = model.state()
+        lam = st.u["rigid_multipliers"]
+        held = [(int(b), int(model.mesh.local_to_global[n]), int(s))
+                for b, n, s in zip(self._body, self._node_local, self._section)]
+        values = [np.pad(lam[m:m + (9 if s else 3)], (0, 0 if s else 6))
+                  for m, s in zip(self._multiplier, self._section)]
+        keys = sum(model.comm.gather(held, root=0) or [], [])
+        vals = sum(model.comm.gather(values, root=0) or [], [])
+        return dict(unknowns=st.u["rigid"].reshape(-1, 6)[:len(self.bodies)],
+                    rotation=self.rotation, turned=self.turned,
+                    coupling_keys=np.array(keys, dtype=np.int64).reshape(-1, 3),
+                    multipliers=np.array(vals).reshape(-1, 9))
+
+    def load_state(self, model, data: dict) -> None:
+        if not data:
+            raise ValueError("the state file holds no rigid bodies, the model has some")
+        if data["unknowns"].shape != (len(self.bodies), 6):
+            raise ValueError(f"the state file holds {len(data['unknowns'])} rigid bodies, the "
+                             f"model has {len(self.bodies)}")
+        self.rotation = np.array(data["rotation"])
+        self.turned = np.array(data["turned"])
+        self._set_couplings()
+        saved = {tuple(k): v for k, v in zip(data["coupling_keys"].tolist(), data["multipliers"])}
+        arrays = [a.copy() for a in model.layout.get_local(model.x)]
+        arrays[model.layout.index("rigid")][:] = data["unknowns"].ravel()
+        lam = arrays[model.layout.index("rigid_multipliers")]
+        for b, n, s, m in zip(self._body, self._node_local, self._section, self._multiplier):
+            key = (int(b), int(model.mesh.local_to_global[n]), int(s))
+            if key not in saved:
+                raise ValueError(f"the state file has no coupling of body {b} to node {key[1]}")
+            lam[m:m + (9 if s else 3)] = saved[key][:9 if s else 3]
+        model.layout.scatter(model.x, arrays)
+
     # -- results ---------------------------------------------------------------
     def reactions(self, model=None) -> np.ndarray:
         """(bodies, 6): force and moment (about the current centre) each body
