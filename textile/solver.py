@@ -702,6 +702,8 @@ class Solver:
         """Advance the current stage from its load factor to ``t_end``
         (default 1, the stage's end)."""
         self._stage_started = True
+        if not hasattr(self, "_t0"):
+            self._t0 = time.perf_counter()
         o, m = self.options, self.model
         if not (isinstance(t_end, (int, float)) and math.isfinite(t_end)):
             raise ValueError(f"t_end must be a finite number, got {t_end!r}")
@@ -752,9 +754,10 @@ class Solver:
             self.history.append(rec)
             self._counts["accepted_steps"] += 1
             attempts = 0
-            self._log(f"step {rec.step:3d}  t={t:.4f}  newton={attempt.iterations:2d}  "
-                      f"|r|={rec.residual_norms[-1] if rec.residual_norms else float('nan'):.2e}"
-                      f"  {rec.wall_time:.2f}s")
+            self._log(f"step {rec.step:4d}  {self._stage.name} s={t:.4f}  "
+                      f"newton {attempt.iterations:2d}  solves {attempt.updates:2d}  "
+                      f"|r| {rec.residual_norms[-1] if rec.residual_norms else float('nan'):.1e}"
+                      f"  {rec.wall_time:6.2f} s  (total {time.perf_counter() - self._t0:.1f} s)")
             if self.output is not None:
                 self.output.write_step(self, rec)
             if self.on_step is not None:
