@@ -76,7 +76,8 @@ void declare_contact(py::module_& m)
         const Detection d = detect(geo.lines, g, delta_factor, self_exclusion, spacing, parallel_angle);
         const std::size_t n = d.points.size();
         std::vector<int> fi(n), fj(n);
-        std::vector<double> si(n), sj(n), par(n), a1(n), a2(n), b1(n), b2(n), w(n);
+        std::vector<double> si(n), sj(n), par(n), a1(n), a2(n), b1(n), b2(n), len(n);
+        std::vector<int> crossing(n);
         std::vector<Eigen::Vector3d> ti(n), tj(n), t(n), gap(n);
         for (std::size_t k = 0; k < n; ++k)
         {
@@ -86,7 +87,8 @@ void declare_contact(py::module_& m)
           si[k] = p.s_i;
           sj[k] = p.s_j;
           par[k] = p.parameter;
-          w[k] = p.weight;
+          len[k] = p.length;
+          crossing[k] = p.crossing;
           a1[k] = p.xi1_i;
           a2[k] = p.xi2_i;
           b1[k] = p.xi1_j;
@@ -103,7 +105,8 @@ void declare_contact(py::module_& m)
         out["s_i"] = array_of(si);
         out["s_j"] = array_of(sj);
         out["parameter"] = array_of(par);
-        out["weight"] = array_of(w);
+        out["length"] = array_of(len);
+        out["crossing"] = array_of(crossing);
         out["xi1_i"] = array_of(a1);
         out["xi2_i"] = array_of(a2);
         out["xi1_j"] = array_of(b1);
@@ -152,9 +155,10 @@ void declare_contact(py::module_& m)
             Geometry geo(q, first_node, order, radius);
             auto get = [&](const char* k) { return found[k].cast<carray<double>>(); };
             auto geti = [&](const char* k) { return found[k].cast<carray<int>>(); };
-            const auto fi = geti("fibre_i"), fj = geti("fibre_j"), zone = geti("zone");
+            const auto fi = geti("fibre_i"), fj = geti("fibre_j"), zone = geti("zone"),
+                       crossing = geti("crossing");
             const auto si = get("s_i"), sj = get("s_j"), a1 = get("xi1_i"), a2 = get("xi2_i"),
-                       b1 = get("xi1_j"), b2 = get("xi2_j"), w = get("weight");
+                       b1 = get("xi1_j"), b2 = get("xi2_j"), len = get("length");
             const RegularizedCoulomb fr{mu, u_rev};
             self.elements.clear();
             for (py::ssize_t k = 0; k < fi.size(); ++k)
@@ -168,7 +172,8 @@ void declare_contact(py::module_& m)
               p.xi2_i = a2.data()[k];
               p.xi1_j = b1.data()[k];
               p.xi2_j = b2.data()[k];
-              p.weight = w.data()[k];
+              p.length = len.data()[k];
+              p.crossing = crossing.data()[k] != 0;
               auto e = make_element(geo.lines, p, zone.data()[k], row(normals, k),
                                     penalty.data()[k], g_r, fr, row(elastic_slip, k),
                                     std::span<const double>(q.data(), q.size()));
@@ -208,7 +213,7 @@ void declare_contact(py::module_& m)
            {
              const std::size_t n = self.elements.size();
              std::vector<int> fi(n), fj(n), zone(n);
-             std::vector<double> si(n), sj(n), k(n), gap(n), RN(n), w(n);
+             std::vector<double> si(n), sj(n), k(n), gap(n), RN(n), len(n);
              std::vector<bool> slip(n);
              std::vector<Eigen::Vector3d> N(n), T(n), el(n), xi(n), xj(n);
              for (std::size_t i = 0; i < n; ++i)
@@ -220,7 +225,7 @@ void declare_contact(py::module_& m)
                si[i] = e.s_i;
                sj[i] = e.s_j;
                k[i] = e.penalty;
-               w[i] = e.weight;
+               len[i] = e.length;
                gap[i] = e.result.gap;
                RN[i] = e.result.normal_force;
                slip[i] = e.result.slip;
@@ -237,7 +242,7 @@ void declare_contact(py::module_& m)
              out["s_i"] = array_of(si);
              out["s_j"] = array_of(sj);
              out["penalty"] = array_of(k);
-             out["weight"] = array_of(w);
+             out["length"] = array_of(len);
              out["gap"] = array_of(gap);
              out["normal_force"] = array_of(RN);
              carray<bool> sl(n);

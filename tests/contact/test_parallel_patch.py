@@ -33,7 +33,8 @@ def test_uniform_penetration_and_total_force(order, num_elements):
     for e in range(num_elements):
         for a, w in enumerate(weights):
             model.add_force(B, order * e + a, [0, 0, -q * le * w])
-    contact = FibreContact(dict(adapt_penalty=False, penalty=1e6, regularization=0.02))
+    # per unit length: 1e6 N/m for each element of the default spacing (le / 2)
+    contact = FibreContact(dict(adapt_penalty=False, penalty=1e6 / (0.5 * le), regularization=0.02))
     model.add_effect(contact)
     textile.Solver(model, dict(initial_step=0.5, max_step=0.5, verbose=False)).solve()
     data = contact.elements()

@@ -14,7 +14,11 @@ section 4 around Newton:
   target; ask for another Newton if anything changed beyond tolerance;
 - ``commit`` (step accepted): friction return mapping (stick points).
 
-Units: lengths in the model's unit, penalties in force/length.
+Units: lengths in the model's unit. Penalties are per unit length of
+contact (force/length^2): a line contact of penetration p carries
+k_c phi(p) per unit length, whatever the element spacing; a crossing stands
+for the equivalent length r_i + r_j (``contact_set.h`` states this once for
+the C++ side).
 Sign conventions as in ``contact_element.h``: the normal points from fibre
 j to fibre i, gap < 0 when they interpenetrate.
 """
@@ -40,13 +44,22 @@ class ContactOptions(Options):
         Proximity criterion delta = search_factor * (r_i + r_j) between centre lines.
     spacing:
         Distance between contact elements along an intermediate geometry
-        (length); default half the smallest reference element length.
+        (length); default half the smallest reference element length. It
+        sets how finely a line contact is sampled, not its stiffness.
     regularization:
         g_r = regularization * min(r_i, r_j) (regularization depth).
     target_penetration:
         Target of a zone's largest penetration, in units of g_r.
     penalty:
-        Initial penalty k_c (force/length); default young * radius (smallest).
+        Initial penalty k_c of a zone, per unit length of contact: force per
+        unit length per unit penetration (force/length^2, a pressure). A
+        line contact of penetration p carries k_c phi(p) per unit length
+        (phi(p) = p^2 / (2 g_r) below g_r, p - g_r / 2 beyond), whatever the
+        spacing; a crossing's single element stands for the length
+        r_i + r_j (stiffness k_c (r_i + r_j)). Default: young / 8 (the
+        smallest Young's modulus), the order of the elastic stiffness per
+        length of two round fibres pressed side by side (2D Hertz:
+        pi E* / (2 ln(...)), about E / 8 to E / 4).
     adapt_penalty:
         Re-tune each zone's penalty towards the target penetration.
     penalty_range:
@@ -116,7 +129,7 @@ class FibreContact(Effect):
         self.radius = np.array([f.radius for f in mesh.fibres])
         young = min(f.material.young for f in mesh.fibres)
         rmin = self.radius.min()
-        self.k0 = o.penalty if o.penalty is not None else young * rmin
+        self.k0 = o.penalty if o.penalty is not None else young / 8
         self.g_r = o.regularization * rmin
         self.u_rev = o.reversible_slip * rmin
         # contact elements about two per fibre element, consistent with the mesh

@@ -49,18 +49,12 @@ ContactResult ContactSet::element(const ContactElementState& e, std::span<const 
   r.assign(n, 0.0);
   if (K)
     K->assign(n * n, 0.0);
-  const RegularizedPenalty law(e.penalty, e.regularization);
+  // the element stands for `length` of contact: the per-length law times
+  // its length (R_N and friction are linear in k)
+  const RegularizedPenalty law(e.penalty * e.length, e.regularization);
   ContactResult res = contact_element(e.particle_i, e.particle_j, e.normal, law,
                                       e.friction.mu > 0 ? &e.friction : nullptr, e.stick, xi, xj,
                                       r, K ? std::span<double>(*K) : std::span<double>());
-  // a line-contact element stands for `weight` units of length
-  for (double& v : r)
-    v *= e.weight;
-  if (K)
-    for (double& v : *K)
-      v *= e.weight;
-  res.normal_force *= e.weight;
-  res.tangential_force *= e.weight;
   return res;
 }
 

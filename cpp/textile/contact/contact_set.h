@@ -1,4 +1,16 @@
 // The contact elements of a load step and their assembly into PETSc.
+//
+// Penalty units (the one place they are stated for all of contact). Every
+// contact element stands for a length of contact, `length` (length): its
+// share of a line contact's intermediate geometry (intermediate_geometry.h,
+// contact_points), or crossing_length(r_i, r_j) = r_i + r_j for the single
+// element of a crossing. The penalty k_c is a stiffness per unit length of
+// contact: force per unit length per unit penetration (force/length^2, a
+// pressure). The normal law gives the reaction per unit length R_N(gap)
+// (force/length), and an element's force is length x R_N (force), as are
+// its friction force (mu length R_N at most), residual and tangent. So a
+// line contact's stiffness per length is k_c whatever the element spacing,
+// and a crossing's stiffness is k_c (r_i + r_j).
 #pragma once
 
 #include "contact_element.h"
@@ -22,16 +34,17 @@ struct ContactElementState
   int fibre_i = 0, fibre_j = 0;  ///< fibres of the two particles
   double s_i = 0, s_j = 0;       ///< their abscissas (element coordinates)
   int zone = 0;                  ///< proximity zone of this pass
+  bool crossing = false;         ///< the element of a crossing (else of a line contact)
   std::array<std::int64_t, 3> nodes_i{-1, -1, -1}; ///< global nodes of the element on fibre i
   std::array<std::int64_t, 3> nodes_j{-1, -1, -1}; ///< and on fibre j
   Particle particle_i, particle_j;
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(); ///< from j towards i
-  double weight = 1;         ///< share of a line contact (element force = weight x R_N)
-  double penalty = 0;        ///< k_c (force/length)
+  double length = 0;         ///< contact length it stands for (length, see above)
+  double penalty = 0;        ///< k_c per unit length (force/length^2, see above)
   double regularization = 0; ///< g_r (length)
   RegularizedCoulomb friction{0.0, 1.0};
   Eigen::Vector3d stick = Eigen::Vector3d::Zero(); ///< Delta at the stick point
-  // last evaluation (forces already multiplied by the weight)
+  // last evaluation (forces are the element's: length x per-length values)
   ContactResult result;
 };
 
@@ -79,7 +92,7 @@ public:
   Eigen::Vector3d elastic_slip(const ContactElementState& e) const;
 
 private:
-  /// Residual (and tangent if K) of one element, scaled by its weight.
+  /// Residual (and tangent if K) of one element (times its length).
   ContactResult element(const ContactElementState& e, std::span<const double> q,
                         std::vector<double>& r, std::vector<double>* K) const;
   void gather(const ContactElementState& e, std::span<const double> q, std::vector<double>& xi,

@@ -72,6 +72,8 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> SectionVectors::at(const Centrelines
   return {g1, g2};
 }
 
+double crossing_length(double r_i, double r_j) { return r_i + r_j; }
+
 double intermediate_length(const Centrelines& c, const ProximityZone& z, int samples)
 {
   double length = 0;
@@ -174,20 +176,21 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
     throw std::invalid_argument("contact_points: spacing must be positive and finite");
   const bool crossing = is_crossing(c, z, parallel_angle, delta_factor);
   const double length = intermediate_length(c, z);
-  // parameters and weights of the elements on the intermediate geometry
-  std::vector<double> params, weights;
+  // parameters and contact lengths of the elements on the intermediate geometry
+  std::vector<double> params, lengths;
   if (crossing)
   {
     params = {0.5};
-    weights = {1.0};
+    lengths = {crossing_length(c.radius[z.fibre_i], c.radius[z.fibre_j])};
   }
   else
   {
     // Line contact: a composite 2-point Gauss rule between the element
-    // boundaries of both fibres (further cut to about `spacing`), weights in
-    // units of `spacing`. Uniform penetration then gives contact nodal
-    // forces equal to the consistent nodal forces of a uniform line load
-    // (the patch test), which collocation at evenly spaced points fails.
+    // boundaries of both fibres (further cut to about `spacing`), each point
+    // standing for its share of the length. Uniform penetration then gives
+    // contact nodal forces equal to the consistent nodal forces of a uniform
+    // line load (the patch test), which collocation at evenly spaced points
+    // fails; and the forces do not depend on `spacing`.
     std::vector<double> cuts = {0.0, 1.0};
     for (const auto& [a, b] : {std::pair{z.a_i, z.b_i}, std::pair{z.a_j, z.b_j}})
       if (b - a > 1e-12)
@@ -207,7 +210,7 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
         {
           const double h = ds / parts;
           params.push_back(s0 + h * (m + 0.5 * (1.0 + gl.x[gpt])));
-          weights.push_back(0.5 * h * length / spacing); // Gauss weights are 1 on [-1, 1]
+          lengths.push_back(0.5 * h * length); // Gauss weights are 1 on [-1, 1]
         }
     }
   }
@@ -220,7 +223,8 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
     p.fibre_i = z.fibre_i;
     p.fibre_j = z.fibre_j;
     p.parameter = params[l];
-    p.weight = weights[l];
+    p.crossing = crossing;
+    p.length = lengths[l];
     if (crossing)
     {
       std::tie(p.s_i, p.s_j) = closest_points(c, z.fibre_i, z.s_i, z.fibre_j, z.s_j);
