@@ -76,8 +76,9 @@ bool is_crossing(const Centrelines& c, const ProximityZone& z, double parallel_a
 ///
 /// Line contacts (see is_crossing): elements at
 /// the points of a composite 2-point Gauss rule on the intermediate
-/// geometry, cut at both fibres' element boundaries and about every
-/// 2 x spacing, each standing for its share of the intermediate geometry's
+/// geometry, cut at both fibres' element boundaries (cuts closer than
+/// spacing / 1000 merged) and about every 2 x spacing (pieces up to 2.2 x
+/// spacing are not cut), each standing for its share of the intermediate geometry's
 /// length (its Gauss weight times the half-length of its piece; the lengths
 /// of a zone sum to the zone's length, whatever the spacing): a contact
 /// element's force is length x R_N(gap), R_N per unit length.
