@@ -34,6 +34,28 @@ Eigen::Vector3d particle_position(const Particle& p, std::span<const double> x)
 
 namespace
 {
+/// Section vectors g1, g2 at the particle's abscissa.
+std::array<Eigen::Vector3d, 2> section_vectors(const Particle& p, std::span<const double> x,
+                                               const std::array<double, 3>& n)
+{
+  std::array<Eigen::Vector3d, 2> g = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  for (int a = 0; a < p.num_nodes; ++a)
+    for (int al = 0; al < 2; ++al)
+      g[al] += n[a] * Eigen::Map<const Eigen::Vector3d>(x.data() + 9 * a + 3 + 3 * al);
+  return g;
+}
+
+/// (g1.N, g2.N), or zero when the section is edge-on to N (fibre along the
+/// normal): no extent, and no direction to differentiate.
+Eigen::Vector2d support_direction(const std::array<Eigen::Vector3d, 2>& g,
+                                  const Eigen::Vector3d& N)
+{
+  const Eigen::Vector2d c(g[0].dot(N), g[1].dot(N));
+  if (c.norm() < 1e-12 * (g[0].norm() + g[1].norm()))
+    return Eigen::Vector2d::Zero();
+  return c;
+}
+
 /// Support of a section in direction N: h = R |(g1.N, g2.N)|, the extent of
 /// the (deformed) disk x0 + xi1 g1 + xi2 g2, |xi| <= R, along +-N. Adds its
 /// gradient (times `sign`) into G and its Hessian (times `sign`) into H for
@@ -43,14 +65,10 @@ double support(const Particle& p, std::span<const double> x, const Eigen::Vector
 {
   std::array<double, 3> n, dn;
   beam::lagrange(p.num_nodes, p.xi, n, dn);
-  Eigen::Vector3d g[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
-  for (int a = 0; a < p.num_nodes; ++a)
-    for (int al = 0; al < 2; ++al)
-      g[al] += n[a] * Eigen::Map<const Eigen::Vector3d>(x.data() + 9 * a + 3 + 3 * al);
-  const Eigen::Vector2d c(g[0].dot(N), g[1].dot(N));
+  const Eigen::Vector2d c = support_direction(section_vectors(p, x, n), N);
   const double nc = c.norm();
-  if (nc < 1e-12 * (g[0].norm() + g[1].norm()))
-    return 0.0; // section edge-on to N (fibre along the normal): no extent
+  if (nc == 0)
+    return 0.0;
   const double h = p.radius * nc;
   for (int a = 0; a < p.num_nodes; ++a)
     for (int al = 0; al < 2; ++al)
@@ -160,6 +178,26 @@ ContactResult contact_element(const Particle& pi, const Particle& pj,
       }
   }
   return out;
+}
+
+double contact_gap(const Particle& pi, const Particle& pj, const Eigen::Vector3d& N,
+                   std::span<const double> xi, std::span<const double> xj)
+{
+  // the same expression as contact_element's, to the last bit
+  Eigen::Vector3d x0[2];
+  double h[2];
+  for (int side = 0; side < 2; ++side)
+  {
+    const Particle& p = side == 0 ? pi : pj;
+    const std::span<const double> x = side == 0 ? xi : xj;
+    std::array<double, 3> n, dn;
+    beam::lagrange(p.num_nodes, p.xi, n, dn);
+    x0[side] = Eigen::Vector3d::Zero();
+    for (int a = 0; a < p.num_nodes; ++a)
+      x0[side] += n[a] * Eigen::Map<const Eigen::Vector3d>(x.data() + 9 * a);
+    h[side] = p.radius * support_direction(section_vectors(p, x, n), N).norm();
+  }
+  return N.dot(x0[0] - x0[1]) - h[0] - h[1];
 }
 
 Eigen::Vector3d updated_stick(const Eigen::Vector3d& N, const RegularizedCoulomb& friction,

@@ -77,6 +77,12 @@ ContactResult contact_element(const Particle& pi, const Particle& pj,
                               std::span<const double> xi, std::span<const double> xj,
                               std::span<double> r, std::span<double> K);
 
+/// The gap alone, as contact_element computes it, without derivatives or
+/// allocation: lets an assembler skip open elements (R_N = 0 and
+/// dR_N = 0, so neither force nor tangent) before running the kernel.
+double contact_gap(const Particle& pi, const Particle& pj, const Eigen::Vector3d& normal,
+                   std::span<const double> xi, std::span<const double> xj);
+
 /// Stick point after a converged step (return mapping): unchanged in stick;
 /// in slip moved along the slip so that the elastic part is u_rev.
 Eigen::Vector3d updated_stick(const Eigen::Vector3d& normal, const RegularizedCoulomb& friction,
