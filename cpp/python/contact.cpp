@@ -216,6 +216,9 @@ void declare_contact(py::module_& m)
       .def("assemble_matrix",
            [](ContactSet& self, const carray<double>& q, const carray<std::int32_t>& dofs, Mat A)
            { self.assemble_matrix(cspan(q), cspan(dofs), A); })
+      .def("run_kernels", [](ContactSet& self, const carray<double>& q)
+           { return self.run_kernels(cspan(q)); },
+           "The element kernels of both assemblies alone, nothing inserted (benchmarks).")
       .def("nodal_forces",
            [](const ContactSet& self, const carray<double>& q)
            { return array_of(self.nodal_forces(cspan(q))); })

@@ -87,6 +87,11 @@ public:
   /// Evaluate every element at q (results only, no assembly).
   void evaluate(std::span<const double> q);
 
+  /// The kernels alone: residual and tangent of every closed element at q,
+  /// as the two assemblies compute them, nothing inserted (the least an
+  /// assembly can cost; for benchmarks). Returns the number of kernels run.
+  std::size_t run_kernels(std::span<const double> q);
+
   /// Contact forces on every unknown (9 per global node, like q) at q:
   /// lets two element sets be compared by what they do to the fibres.
   std::vector<double> nodal_forces(std::span<const double> q) const;

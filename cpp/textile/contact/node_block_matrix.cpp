@@ -90,8 +90,9 @@ void NodeBlockMatrix::build(std::span<const std::size_t> offsets,
       }
   }
   slots_ = MatrixSlots();
-  values_.assign(block_size * pairs.size(), 0.0);
+  values_.resize(block_size * pairs.size()); // overwritten by a block's first contribution
   block_touched_.assign(pairs.size(), 0);
+  touched_.clear();
   row_touched_.assign(row_node_.size(), 0);
   // the row of each block, to flag rows as blocks are touched
   block_row_.resize(pairs.size());
@@ -119,10 +120,20 @@ void NodeBlockMatrix::add(std::size_t e, std::span<const double> K)
         continue;
       double* block = values_.data() + static_cast<std::size_t>(block_size) * *slot;
       const double* src = K.data() + dofs_per_node * (a * cols + b);
-      for (int i = 0; i < dofs_per_node; ++i)
-        for (int j = 0; j < dofs_per_node; ++j)
-          block[dofs_per_node * i + j] += src[i * cols + j];
-      block_touched_[*slot] = 1;
+      if (block_touched_[*slot])
+        for (int i = 0; i < dofs_per_node; ++i)
+          for (int j = 0; j < dofs_per_node; ++j)
+            block[dofs_per_node * i + j] += src[i * cols + j];
+      else
+      {
+        // the first contribution since the last insertion overwrites: the
+        // buffer is never cleared
+        for (int i = 0; i < dofs_per_node; ++i)
+          for (int j = 0; j < dofs_per_node; ++j)
+            block[dofs_per_node * i + j] = src[i * cols + j];
+        block_touched_[*slot] = 1;
+        touched_.push_back(*slot);
+      }
       row_touched_[block_row_[*slot]] = 1;
     }
 }
@@ -201,6 +212,7 @@ void NodeBlockMatrix::locate(Mat A)
     slots_.diagonal_size = static_cast<std::size_t>(d.ia[d.n]);
     slots_.position.assign(block_size * col_node_.size(), -1);
     slots_.block_direct.assign(col_node_.size(), 0);
+    slots_.block_rows_contiguous.assign(col_node_.size(), 0);
     // slot of global (row, column), -2 when outside the pattern
     auto find = [](const Csr& m, PetscInt local_row, PetscInt column) -> std::int64_t
     {
@@ -250,6 +262,18 @@ void NodeBlockMatrix::locate(Mat A)
           }
         }
         slots_.block_direct[p] = inside;
+        // contiguous when every row of the block has its 9 slots side by
+        // side (all columns free, consecutive in the pattern, one part)
+        bool contiguous = inside;
+        for (int i = 0; i < dofs_per_node and contiguous; ++i)
+        {
+          const std::int64_t* at = &slots_.position[block_size * p + dofs_per_node * i];
+          for (int j = 0; j < dofs_per_node and contiguous; ++j)
+            contiguous = at[0] >= 0 and at[j] == at[0] + j
+                         and (at[0] < static_cast<std::int64_t>(slots_.diagonal_size))
+                                 == (at[j] < static_cast<std::int64_t>(slots_.diagonal_size));
+        }
+        slots_.block_rows_contiguous[p] = contiguous;
       }
     }
   }
@@ -280,22 +304,36 @@ void NodeBlockMatrix::insert(Mat A)
     if (off_diagonal)
       check(MatSeqAIJGetArray(off_diagonal, &ao), "MatSeqAIJGetArray");
     const std::int64_t nd = static_cast<std::int64_t>(slots_.diagonal_size);
-    for (std::size_t p = 0; p < col_node_.size(); ++p)
+    // in block order, which is the matrix's row order: its arrays are then
+    // walked forward instead of at random
+    std::sort(touched_.begin(), touched_.end());
+    for (const std::int32_t p : touched_)
     {
-      if (!block_touched_[p] or !slots_.block_direct[p])
+      if (!slots_.block_direct[p])
         continue;
       double* v = values_.data() + static_cast<std::size_t>(block_size) * p;
       const std::int64_t* slot = slots_.position.data() + static_cast<std::size_t>(block_size) * p;
-      for (int k = 0; k < block_size; ++k)
+      if (slots_.block_rows_contiguous[p])
       {
-        if (slot[k] < 0)
-          continue;
-        if (slot[k] < nd)
-          ad[slot[k]] += v[k];
-        else
-          ao[slot[k] - nd] += v[k];
+        // a node's 9 columns sit side by side in each row of the block
+        for (int i = 0; i < dofs_per_node; ++i)
+        {
+          const std::int64_t at = slot[dofs_per_node * i];
+          double* dst = at < nd ? ad + at : ao + (at - nd);
+          for (int j = 0; j < dofs_per_node; ++j)
+            dst[j] += v[dofs_per_node * i + j];
+        }
       }
-      std::fill_n(v, block_size, 0.0);
+      else
+        for (int k = 0; k < block_size; ++k)
+        {
+          if (slot[k] < 0)
+            continue;
+          if (slot[k] < nd)
+            ad[slot[k]] += v[k];
+          else
+            ao[slot[k] - nd] += v[k];
+        }
       block_touched_[p] = 0;
     }
     check(MatSeqAIJRestoreArray(diagonal, &ad), "MatSeqAIJRestoreArray");
@@ -304,24 +342,19 @@ void NodeBlockMatrix::insert(Mat A)
   }
   // the rest (other ranks' rows, new entries, other types): MatSetValues
   // after the arrays are given back, as it may reallocate them
-  for (std::size_t r = 0; r < row_node_.size(); ++r)
+  for (const std::int32_t p : touched_)
   {
-    if (!row_touched_[r])
-      continue;
-    row_touched_[r] = 0;
-    bool any = false;
-    for (std::size_t p = row_start_[r]; p < row_start_[r + 1] and !any; ++p)
-      any = block_touched_[p];
-    if (!any)
+    const std::int32_t r = block_row_[p];
+    if (!block_touched_[p] or !row_touched_[r])
       continue;
     insert_row(A, r, true);
-    for (std::size_t p = row_start_[r]; p < row_start_[r + 1]; ++p)
-      if (block_touched_[p])
-      {
-        std::fill_n(values_.data() + static_cast<std::size_t>(block_size) * p, block_size, 0.0);
-        block_touched_[p] = 0;
-      }
+    for (std::size_t b = row_start_[r]; b < row_start_[r + 1]; ++b)
+      block_touched_[b] = 0;
+    row_touched_[r] = 0;
   }
+  for (const std::int32_t p : touched_)
+    row_touched_[block_row_[p]] = 0;
+  touched_.clear();
 }
 
 void NodeBlockMatrix::insert_pattern(Mat P) const

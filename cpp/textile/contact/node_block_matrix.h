@@ -80,6 +80,7 @@ private:
   std::vector<double> values_;              // 81 per block, row-major
   std::vector<std::int32_t> block_row_;     // row of each block
   std::vector<char> block_touched_, row_touched_;
+  std::vector<std::int32_t> touched_;       // blocks added to since the last insertion
   mutable std::vector<std::int32_t> cols_;  // scratch of one block row
   mutable std::vector<double> row_values_;
 
@@ -94,6 +95,7 @@ private:
     std::vector<std::int64_t> position;   // 81 per block: diagonal part [0, diagonal_size),
                                           // off-diagonal part after it; -1: constrained
     std::vector<char> block_direct;       // rows owned here, entries inside the pattern
+    std::vector<char> block_rows_contiguous; // each row's 9 slots side by side
   };
   MatrixSlots slots_;
 
