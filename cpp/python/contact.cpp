@@ -202,6 +202,8 @@ void declare_contact(py::module_& m)
           py::arg("parallel_angle"), py::arg("owned"),
           "The set of detection pass `found` with history from this one (evaluated by this "
           "rank: first node on fibre i in `owned`), and what each new zone inherits.")
+      .def("take_layout", &ContactSet::take_layout, py::arg("previous"),
+           "Take over previous's assembly layout if it couples the same nodes.")
       .def("set_zone_penalties", [](ContactSet& self, const carray<double>& k)
            { self.set_zone_penalties(cspan(k)); })
       .def("zone_max_penetration",

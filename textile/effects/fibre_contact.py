@@ -214,6 +214,7 @@ class FibreContact(Effect):
                                   math.radians(o.parallel_angle), mesh.owned)
         self._carry_zone_penalties(new, old, inherited, q)
         new.evaluate(q)
+        new.take_layout(old)  # usually the same nodes: no new assembly layout
         self._replace_set(new)
         # a coupling the matrix was not preallocated for: ask for a new one
         if not self._matrix_has_contact or not self.coverage.covers(new, self.pattern_margin):

@@ -107,6 +107,23 @@ ContactResult ContactSet::element(const ContactElementState& e, std::span<const 
                          e.friction.mu > 0 ? &e.friction : nullptr, e.stick, xi, xj, r, K);
 }
 
+bool ContactSet::take_layout(ContactSet& previous)
+{
+  if (previous._blocks.num_elements() != _elements.size() or _elements.empty())
+    return false;
+  for (std::size_t k = 0; k < _elements.size(); ++k)
+  {
+    const auto &a = _elements[k], &b = previous._elements[k];
+    if (a.nodes_i != b.nodes_i or a.nodes_j != b.nodes_j
+        or a.particle_i.num_nodes != b.particle_i.num_nodes
+        or a.particle_j.num_nodes != b.particle_j.num_nodes)
+      return false;
+  }
+  _blocks = std::move(previous._blocks);
+  previous._blocks = NodeBlockMatrix();
+  return true;
+}
+
 void ContactSet::evaluate(std::span<const double> q)
 {
   std::array<double, max_pair_dofs> r;

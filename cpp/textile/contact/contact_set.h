@@ -84,6 +84,12 @@ public:
   /// fibre nodes, inserted one block row at a time (node_block_matrix.h).
   void assemble_matrix(std::span<const double> q, std::span<const std::int32_t> dofs, Mat A);
 
+  /// Take over `previous`'s assembly layout (node blocks and their slots in
+  /// the matrix) when its elements couple the same nodes in the same order,
+  /// as a re-detection usually finds: the layout then costs nothing. True if
+  /// taken; `previous` keeps its elements but loses its layout.
+  bool take_layout(ContactSet& previous);
+
   /// Evaluate every element at q (results only, no assembly).
   void evaluate(std::span<const double> q);
 

@@ -233,6 +233,17 @@ void NodeBlockMatrix::locate(Mat A)
       const std::int64_t slot = find(o, row - r0, static_cast<PetscInt>(g - garray));
       return slot < 0 ? slot : slot + static_cast<std::int64_t>(slots_.diagonal_size);
     };
+    // global column of a slot of a row, -1 outside the row (the inverse of
+    // slot_of)
+    auto column_at = [&](std::int32_t row, std::int64_t slot) -> std::int64_t
+    {
+      const PetscInt lr = row - r0;
+      const std::int64_t nd = static_cast<std::int64_t>(slots_.diagonal_size);
+      if (slot < nd)
+        return slot >= d.ia[lr] and slot < d.ia[lr + 1] ? d.ja[slot] + c0 : -1;
+      const std::int64_t k = slot - nd;
+      return off_diagonal and k >= o.ia[lr] and k < o.ia[lr + 1] ? garray[o.ja[k]] : -1;
+    };
     for (std::size_t r = 0; r < row_node_.size(); ++r)
     {
       // a block is summed in place when all its rows are owned here and all
@@ -256,7 +267,14 @@ void NodeBlockMatrix::locate(Mat A)
             const std::int32_t col = dofs_[dofs_per_node * col_node_[p] + j];
             if (col < 0)
               continue;
-            const std::int64_t slot = slot_of(row, col);
+            // a node's columns are consecutive in the pattern: the slot
+            // after the previous column's, when it holds this column
+            const std::int64_t* previous
+                = j > 0 ? &slots_.position[block_size * p + dofs_per_node * i + j - 1] : nullptr;
+            const std::int64_t slot = previous and *previous >= 0
+                                              and column_at(row, *previous + 1) == col
+                                          ? *previous + 1
+                                          : slot_of(row, col);
             inside = slot >= 0;
             slots_.position[block_size * p + dofs_per_node * i + j] = slot;
           }
