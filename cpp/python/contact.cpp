@@ -10,6 +10,8 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <type_traits>
 
 namespace py = pybind11;
 using namespace textile;
@@ -35,11 +37,42 @@ carray<T> array_of(const std::vector<T>& v)
   return out;
 }
 
-carray<bool> bools(const std::vector<bool>& v)
+/// A per-zone rule (penalty, largest penetration) -> penalty, applied to
+/// arrays of zones.
+auto over_zones(double (PenaltyAdaptation::*rule)(double, double) const)
 {
-  carray<bool> out(v.size());
-  std::copy(v.begin(), v.end(), out.mutable_data());
-  return out;
+  return [rule](const PenaltyAdaptation& a, const carray<double>& k, const carray<double>& p)
+  {
+    if (k.size() != p.size())
+      throw std::invalid_argument("PenaltyAdaptation: one penetration per penalty");
+    carray<double> out(k.size());
+    for (py::ssize_t z = 0; z < k.size(); ++z)
+      out.mutable_data()[z] = (a.*rule)(k.data()[z], p.data()[z]);
+    return out;
+  };
+}
+
+/// One column of a table: get(item) for every item, as an array (n x 3
+/// for 3-vectors).
+template <typename Item, typename Get>
+py::array column(const std::vector<Item>& items, Get get)
+{
+  using T = std::decay_t<std::invoke_result_t<Get, const Item&>>;
+  if constexpr (std::is_same_v<T, Eigen::Vector3d>)
+  {
+    std::vector<Eigen::Vector3d> v;
+    v.reserve(items.size());
+    for (const auto& item : items)
+      v.push_back(get(item));
+    return rows3(v);
+  }
+  else
+  {
+    carray<T> out(items.size());
+    for (std::size_t i = 0; i < items.size(); ++i)
+      out.mutable_data()[i] = get(items[i]);
+    return out;
+  }
 }
 
 /// Centre lines and section vectors from the (nodes, 9) array q.
@@ -78,35 +111,18 @@ void declare_contact(py::module_& m)
           "arrays",
           [](const Detection& d)
           {
-            const std::size_t n = d.points.size();
-            std::vector<int> fi(n), fj(n);
-            std::vector<double> si(n), sj(n), par(n), len(n);
-            std::vector<bool> crossing(n);
-            std::vector<Eigen::Vector3d> t(n), gap(n);
-            for (std::size_t k = 0; k < n; ++k)
-            {
-              const auto& p = d.points[k];
-              fi[k] = p.fibre_i;
-              fj[k] = p.fibre_j;
-              si[k] = p.s_i;
-              sj[k] = p.s_j;
-              par[k] = p.parameter;
-              len[k] = p.length;
-              crossing[k] = p.crossing;
-              t[k] = p.tangent;
-              gap[k] = p.centroid_gap;
-            }
             py::dict out;
+            auto put = [&](const char* name, auto get) { out[name] = column(d.points, get); };
             out["zone"] = array_of(d.zone_of_point);
-            out["fibre_i"] = array_of(fi);
-            out["fibre_j"] = array_of(fj);
-            out["s_i"] = array_of(si);
-            out["s_j"] = array_of(sj);
-            out["parameter"] = array_of(par);
-            out["length"] = array_of(len);
-            out["crossing"] = bools(crossing);
-            out["tangent"] = rows3(t);
-            out["centroid_gap"] = rows3(gap);
+            put("fibre_i", [](const ContactPoint& p) { return p.fibre_i; });
+            put("fibre_j", [](const ContactPoint& p) { return p.fibre_j; });
+            put("s_i", [](const ContactPoint& p) { return p.s_i; });
+            put("s_j", [](const ContactPoint& p) { return p.s_j; });
+            put("parameter", [](const ContactPoint& p) { return p.parameter; });
+            put("length", [](const ContactPoint& p) { return p.length; });
+            put("crossing", [](const ContactPoint& p) { return p.crossing; });
+            put("tangent", [](const ContactPoint& p) { return p.tangent; });
+            put("centroid_gap", [](const ContactPoint& p) { return p.centroid_gap; });
             return out;
           },
           "The contact points as a dict of arrays (zone, fibres, abscissas, contact length, "
@@ -143,25 +159,11 @@ void declare_contact(py::module_& m)
       .def_readonly("target", &PenaltyAdaptation::target)
       .def_readonly("band_low", &PenaltyAdaptation::band_low)
       .def_readonly("band_high", &PenaltyAdaptation::band_high)
-      .def("between_steps",
-           [](const PenaltyAdaptation& a, const carray<double>& k, const carray<double>& p)
-           {
-             carray<double> out(k.size());
-             for (py::ssize_t z = 0; z < k.size(); ++z)
-               out.mutable_data()[z] = a.between_steps(k.data()[z], p.data()[z]);
-             return out;
-           },
-           py::arg("penalty"), py::arg("penetration"),
+      .def("between_steps", over_zones(&PenaltyAdaptation::between_steps), py::arg("penalty"),
+           py::arg("penetration"),
            "Zone penalties for the next step, from each zone's penalty and largest penetration.")
-      .def("in_step",
-           [](const PenaltyAdaptation& a, const carray<double>& k, const carray<double>& p)
-           {
-             carray<double> out(k.size());
-             for (py::ssize_t z = 0; z < k.size(); ++z)
-               out.mutable_data()[z] = a.in_step(k.data()[z], p.data()[z]);
-             return out;
-           },
-           py::arg("penalty"), py::arg("penetration"),
+      .def("in_step", over_zones(&PenaltyAdaptation::in_step), py::arg("penalty"),
+           py::arg("penetration"),
            "Emergency zone penalties within a step (changed only beyond band_high x target).");
 
   py::class_<CouplingPattern>(m, "CouplingPattern")
@@ -241,49 +243,26 @@ void declare_contact(py::module_& m)
       .def("data",
            [](const ContactSet& self)
            {
-             const auto& elements = self.elements();
-             const std::size_t n = elements.size();
-             std::vector<int> fi(n), fj(n), zone(n);
-             std::vector<double> si(n), sj(n), k(n), gap(n), RN(n), len(n);
-             std::vector<bool> slip(n), crossing(n);
-             std::vector<Eigen::Vector3d> N(n), T(n), el(n), xi(n), xj(n);
-             for (std::size_t i = 0; i < n; ++i)
-             {
-               const auto& e = elements[i];
-               fi[i] = e.fibre_i;
-               fj[i] = e.fibre_j;
-               zone[i] = e.zone;
-               si[i] = e.s_i;
-               sj[i] = e.s_j;
-               k[i] = e.penalty;
-               len[i] = e.length;
-               crossing[i] = e.crossing;
-               gap[i] = e.result.gap;
-               RN[i] = e.result.normal_force;
-               slip[i] = e.result.slip;
-               N[i] = e.normal;
-               T[i] = e.result.tangential_force;
-               el[i] = self.elastic_slip(e);
-               xi[i] = e.result.position_i;
-               xj[i] = e.result.position_j;
-             }
+             using Element = ContactElementState;
              py::dict out;
-             out["fibre_i"] = array_of(fi);
-             out["fibre_j"] = array_of(fj);
-             out["zone"] = array_of(zone);
-             out["s_i"] = array_of(si);
-             out["s_j"] = array_of(sj);
-             out["penalty"] = array_of(k);
-             out["length"] = array_of(len);
-             out["crossing"] = bools(crossing);
-             out["gap"] = array_of(gap);
-             out["normal_force"] = array_of(RN);
-             out["slip"] = bools(slip);
-             out["normal"] = rows3(N);
-             out["tangential_force"] = rows3(T);
-             out["elastic_slip"] = rows3(el);
-             out["position_i"] = rows3(xi);
-             out["position_j"] = rows3(xj);
+             auto put = [&](const char* name, auto get)
+             { out[name] = column(self.elements(), get); };
+             put("fibre_i", [](const Element& e) { return e.fibre_i; });
+             put("fibre_j", [](const Element& e) { return e.fibre_j; });
+             put("zone", [](const Element& e) { return e.zone; });
+             put("s_i", [](const Element& e) { return e.s_i; });
+             put("s_j", [](const Element& e) { return e.s_j; });
+             put("penalty", [](const Element& e) { return e.penalty; });
+             put("length", [](const Element& e) { return e.length; });
+             put("crossing", [](const Element& e) { return e.crossing; });
+             put("gap", [](const Element& e) { return e.result.gap; });
+             put("normal_force", [](const Element& e) { return e.result.normal_force; });
+             put("slip", [](const Element& e) { return e.result.slip; });
+             put("normal", [](const Element& e) { return e.normal; });
+             put("tangential_force", [](const Element& e) { return e.result.tangential_force; });
+             put("elastic_slip", [&](const Element& e) { return self.elastic_slip(e); });
+             put("position_i", [](const Element& e) { return e.result.position_i; });
+             put("position_j", [](const Element& e) { return e.result.position_j; });
              return out;
            },
            "This rank's elements at their last evaluation, as a dict of arrays (penalty per "

@@ -12,45 +12,24 @@ from mpi4py import MPI
 import textile
 from textile.effects.fibre_contact import FibreContact
 
-E, NU, R = 1.0e9, 0.3, 1e-3
-MAT = textile.Material(E, NU)
+from .test_parallel_patch import L, Q, R, pressed_parallel_pair
 
-
-def pressed_parallel_pair(spacing, L=0.02, ne=4, q=10.0):
-    """The line-contact patch test (REFERENCES.md 7): B pressed on a fixed,
-    parallel A by a uniform line load q, penalty 4e8 N/m per metre."""
-    A = textile.straight_fibre([0, 0, 0], [L, 0, 0], R, MAT, num_elements=ne,
-                               section_vector=[0, 1, 0])
-    B = textile.straight_fibre([0, 0, 2 * R - 1e-6], [L, 0, 2 * R - 1e-6], R, MAT,
-                               num_elements=ne, section_vector=[0, 1, 0])
-    model = textile.Model([A, B], comm=MPI.COMM_SELF)
-    for n in range(A.num_nodes):
-        model.fix(A, n, "all")
-    for n in range(B.num_nodes):
-        model.fix(B, n, "y")
-    model.fix(B, 0, ["x", "g1z"])
-    le = L / ne
-    for e in range(ne):
-        for a, w in enumerate([1 / 6, 2 / 3, 1 / 6]):
-            model.add_force(B, 2 * e + a, [0, 0, -q * le * w])
-    contact = FibreContact(dict(adapt_penalty=False, penalty=4e8, regularization=0.02,
-                                spacing=spacing))
-    model.add_effect(contact)
-    textile.Solver(model, dict(initial_step=0.5, max_step=0.5, verbose=False)).solve()
-    return contact.elements(), q * L
+MAT = textile.Material(1.0e9, 0.3)
 
 
 @pytest.mark.parametrize("finer", [0.25, 0.2])
 def test_line_stiffness_per_length_does_not_depend_on_spacing(finer):
-    le = 0.02 / 4
-    coarse, total = pressed_parallel_pair(0.5 * le)
-    fine, _ = pressed_parallel_pair(finer * le)
+    # the patch test, penalty 4e8 N/m per metre, at two spacings
+    le = L / 4
+    coarse, fine = (pressed_parallel_pair(2, 4, dict(adapt_penalty=False, penalty=4e8,
+                                                     regularization=0.02, spacing=f * le))
+                    for f in (0.5, finer))
     assert len(fine["gap"]) >= 2 * len(coarse["gap"])  # sampled twice as finely or more
     for d in (coarse, fine):
         # equilibrium: the elements' forces sum to q L (Newton tolerance)
-        assert d["normal_force"].sum() == pytest.approx(total, rel=1e-6)
+        assert d["normal_force"].sum() == pytest.approx(Q * L, rel=1e-6)
         # lengths, not weights: they add up to the overlap (deformed: 5e-7 longer)
-        assert d["length"].sum() == pytest.approx(0.02, rel=1e-5)
+        assert d["length"].sum() == pytest.approx(L, rel=1e-5)
     # the same load gives the same penetration: stiffness per length is
     # unchanged (round-off: measured 9e-14; with per-element weights in units
     # of the spacing it changed by a factor sqrt(2) here)
