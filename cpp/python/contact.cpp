@@ -1,13 +1,17 @@
 // Python bindings of contact detection and the contact set.
 #include "bindings.h"
 
-#include "../textile/contact/contact_normal.h"
+#include "../textile/contact/coupling_pattern.h"
 #include "../textile/contact/detection.h"
+#include "../textile/contact/history_transfer.h"
+#include "../textile/contact/penalty_adaptation.h"
 
 #include <caster_petsc.h>
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <type_traits>
 
 namespace py = pybind11;
 using namespace textile;
@@ -33,9 +37,42 @@ carray<T> array_of(const std::vector<T>& v)
   return out;
 }
 
-Eigen::Vector3d row(const carray<double>& a, std::size_t i)
+/// A per-zone rule (penalty, largest penetration) -> penalty, applied to
+/// arrays of zones.
+auto over_zones(double (PenaltyAdaptation::*rule)(double, double) const)
 {
-  return Eigen::Vector3d(a.data()[3 * i], a.data()[3 * i + 1], a.data()[3 * i + 2]);
+  return [rule](const PenaltyAdaptation& a, const carray<double>& k, const carray<double>& p)
+  {
+    if (k.size() != p.size())
+      throw std::invalid_argument("PenaltyAdaptation: one penetration per penalty");
+    carray<double> out(k.size());
+    for (py::ssize_t z = 0; z < k.size(); ++z)
+      out.mutable_data()[z] = (a.*rule)(k.data()[z], p.data()[z]);
+    return out;
+  };
+}
+
+/// One column of a table: get(item) for every item, as an array (n x 3
+/// for 3-vectors).
+template <typename Item, typename Get>
+py::array column(const std::vector<Item>& items, Get get)
+{
+  using T = std::decay_t<std::invoke_result_t<Get, const Item&>>;
+  if constexpr (std::is_same_v<T, Eigen::Vector3d>)
+  {
+    std::vector<Eigen::Vector3d> v;
+    v.reserve(items.size());
+    for (const auto& item : items)
+      v.push_back(get(item));
+    return rows3(v);
+  }
+  else
+  {
+    carray<T> out(items.size());
+    for (std::size_t i = 0; i < items.size(); ++i)
+      out.mutable_data()[i] = get(items[i]);
+    return out;
+  }
 }
 
 /// Centre lines and section vectors from the (nodes, 9) array q.
@@ -65,6 +102,32 @@ struct Geometry
 
 void declare_contact(py::module_& m)
 {
+  py::class_<Detection>(m, "Detection",
+                        "One detection pass: proximity zones and the contact points on their "
+                        "intermediate geometries (replicated: every rank finds the same).")
+      .def_property_readonly("num_zones", [](const Detection& d) { return d.zones.size(); })
+      .def_property_readonly("size", [](const Detection& d) { return d.points.size(); })
+      .def(
+          "arrays",
+          [](const Detection& d)
+          {
+            py::dict out;
+            auto put = [&](const char* name, auto get) { out[name] = column(d.points, get); };
+            out["zone"] = array_of(d.zone_of_point);
+            put("fibre_i", [](const ContactPoint& p) { return p.fibre_i; });
+            put("fibre_j", [](const ContactPoint& p) { return p.fibre_j; });
+            put("s_i", [](const ContactPoint& p) { return p.s_i; });
+            put("s_j", [](const ContactPoint& p) { return p.s_j; });
+            put("parameter", [](const ContactPoint& p) { return p.parameter; });
+            put("length", [](const ContactPoint& p) { return p.length; });
+            put("crossing", [](const ContactPoint& p) { return p.crossing; });
+            put("tangent", [](const ContactPoint& p) { return p.tangent; });
+            put("centroid_gap", [](const ContactPoint& p) { return p.centroid_gap; });
+            return out;
+          },
+          "The contact points as a dict of arrays (zone, fibres, abscissas, contact length, "
+          "crossing flag, intermediate tangent, centroid gap).");
+
   m.def(
       "detect_contacts",
       [](const carray<double>& q, const carray<std::int64_t>& first_node, int order,
@@ -72,183 +135,136 @@ void declare_contact(py::module_& m)
          double parallel_angle)
       {
         Geometry geo(q, first_node, order, radius);
-        const SectionVectors g{geo.g};
-        const Detection d = detect(geo.lines, g, delta_factor, self_exclusion, spacing, parallel_angle);
-        const std::size_t n = d.points.size();
-        std::vector<int> fi(n), fj(n);
-        std::vector<double> si(n), sj(n), par(n), a1(n), a2(n), b1(n), b2(n), w(n);
-        std::vector<Eigen::Vector3d> ti(n), tj(n), t(n), gap(n);
-        for (std::size_t k = 0; k < n; ++k)
-        {
-          const auto& p = d.points[k];
-          fi[k] = p.fibre_i;
-          fj[k] = p.fibre_j;
-          si[k] = p.s_i;
-          sj[k] = p.s_j;
-          par[k] = p.parameter;
-          w[k] = p.weight;
-          a1[k] = p.xi1_i;
-          a2[k] = p.xi2_i;
-          b1[k] = p.xi1_j;
-          b2[k] = p.xi2_j;
-          ti[k] = p.tangent_i;
-          tj[k] = p.tangent_j;
-          t[k] = p.tangent;
-          gap[k] = p.centroid_gap;
-        }
-        py::dict out;
-        out["zone"] = array_of(d.zone_of_point);
-        out["fibre_i"] = array_of(fi);
-        out["fibre_j"] = array_of(fj);
-        out["s_i"] = array_of(si);
-        out["s_j"] = array_of(sj);
-        out["parameter"] = array_of(par);
-        out["weight"] = array_of(w);
-        out["xi1_i"] = array_of(a1);
-        out["xi2_i"] = array_of(a2);
-        out["xi1_j"] = array_of(b1);
-        out["xi2_j"] = array_of(b2);
-        out["tangent_i"] = rows3(ti);
-        out["tangent_j"] = rows3(tj);
-        out["tangent"] = rows3(t);
-        out["centroid_gap"] = rows3(gap);
-        out["num_zones"] = d.zones.size();
-        return out;
+        return detect(geo.lines, SectionVectors{geo.g}, delta_factor, self_exclusion, spacing,
+                      parallel_angle);
       },
       py::arg("q"), py::arg("first_node"), py::arg("order"), py::arg("radius"),
       py::arg("delta_factor"), py::arg("self_exclusion"), py::arg("spacing"),
       py::arg("parallel_angle"),
-      "One detection pass on the current nodal unknowns q (nodes x 9): proximity zones and "
-      "contact points on their intermediate geometries (dict of arrays).");
+      "One detection pass on the current nodal unknowns q (nodes x 9): a Detection.");
 
-  m.def(
-      "contact_normals",
-      [](const carray<double>& ti, const carray<double>& tj, const carray<double>& t,
-         const carray<double>& gap, const carray<double>& previous, double parallel_angle)
-      {
-        const std::size_t n = ti.size() / 3;
-        std::vector<Eigen::Vector3d> out(n);
-        for (std::size_t k = 0; k < n; ++k)
-          out[k] = contact_normal(row(ti, k), row(tj, k), row(t, k), row(gap, k),
-                                  row(previous, k), parallel_angle);
-        return rows3(out);
-      },
-      py::arg("tangent_i"), py::arg("tangent_j"), py::arg("tangent"), py::arg("centroid_gap"),
-      py::arg("previous"), py::arg("parallel_angle"));
+  py::class_<PenaltyAdaptation>(m, "PenaltyAdaptation")
+      .def(py::init(
+               [](double target, double regularization, double band_low, double retune_high,
+                  double band_high, double max_change, double k_min, double k_max)
+               {
+                 PenaltyAdaptation a{target, regularization, band_low, retune_high,
+                                     band_high,  max_change,     k_min,    k_max};
+                 a.validate();
+                 return a;
+               }),
+           py::arg("target"), py::arg("regularization"), py::arg("band_low"),
+           py::arg("retune_high"), py::arg("band_high"), py::arg("max_change"), py::arg("k_min"),
+           py::arg("k_max"))
+      .def_readonly("target", &PenaltyAdaptation::target)
+      .def_readonly("band_low", &PenaltyAdaptation::band_low)
+      .def_readonly("band_high", &PenaltyAdaptation::band_high)
+      .def("between_steps", over_zones(&PenaltyAdaptation::between_steps), py::arg("penalty"),
+           py::arg("penetration"),
+           "Zone penalties for the next step, from each zone's penalty and largest penetration.")
+      .def("in_step", over_zones(&PenaltyAdaptation::in_step), py::arg("penalty"),
+           py::arg("penetration"),
+           "Emergency zone penalties within a step (changed only beyond band_high x target).");
+
+  py::class_<CouplingPattern>(m, "CouplingPattern")
+      .def(py::init<>())
+      .def("covers", &CouplingPattern::covers, py::arg("set"), py::arg("margin"))
+      .def("add", &CouplingPattern::add, py::arg("set"), py::arg("margin"))
+      .def("insert",
+           [](const CouplingPattern& self, Mat P, const carray<std::int32_t>& dofs)
+           { self.insert(P, cspan(dofs)); },
+           py::arg("preallocator"), py::arg("dofs"))
+      .def_property_readonly("size", &CouplingPattern::size);
 
   py::class_<ContactSet>(m, "ContactSet")
       .def(py::init<>())
       .def("copy", [](const ContactSet& self) { return ContactSet(self); })
-      .def_property_readonly("size", [](const ContactSet& self) { return self.elements.size(); })
+      .def_property_readonly("size", [](const ContactSet& self) { return self.elements().size(); })
+      .def_property_readonly("num_zones", &ContactSet::num_zones)
       .def(
-          "set_elements",
-          [](ContactSet& self, py::dict found, const carray<double>& normals,
-             const carray<double>& penalty, double g_r, double mu, double u_rev,
-             const carray<double>& elastic_slip, const carray<double>& q,
+          "next",
+          [](const ContactSet& self, const Detection& found, const carray<double>& q,
              const carray<std::int64_t>& first_node, int order, const carray<double>& radius,
+             double penalty, double g_r, double mu, double u_rev, double parallel_angle,
              std::pair<std::int64_t, std::int64_t> owned)
           {
-            // rebuild the points from the arrays of detect_contacts
             Geometry geo(q, first_node, order, radius);
-            auto get = [&](const char* k) { return found[k].cast<carray<double>>(); };
-            auto geti = [&](const char* k) { return found[k].cast<carray<int>>(); };
-            const auto fi = geti("fibre_i"), fj = geti("fibre_j"), zone = geti("zone");
-            const auto si = get("s_i"), sj = get("s_j"), a1 = get("xi1_i"), a2 = get("xi2_i"),
-                       b1 = get("xi1_j"), b2 = get("xi2_j"), w = get("weight");
-            const RegularizedCoulomb fr{mu, u_rev};
-            self.elements.clear();
-            for (py::ssize_t k = 0; k < fi.size(); ++k)
-            {
-              ContactPoint p;
-              p.fibre_i = fi.data()[k];
-              p.fibre_j = fj.data()[k];
-              p.s_i = si.data()[k];
-              p.s_j = sj.data()[k];
-              p.xi1_i = a1.data()[k];
-              p.xi2_i = a2.data()[k];
-              p.xi1_j = b1.data()[k];
-              p.xi2_j = b2.data()[k];
-              p.weight = w.data()[k];
-              auto e = make_element(geo.lines, p, zone.data()[k], row(normals, k),
-                                    penalty.data()[k], g_r, fr, row(elastic_slip, k),
-                                    std::span<const double>(q.data(), q.size()));
-              // each element is evaluated by the rank owning its first node on fibre i
-              if (e.nodes_i[0] >= owned.first and e.nodes_i[0] < owned.second)
-                self.elements.push_back(e);
-            }
+            const ElementParameters par{penalty, g_r, RegularizedCoulomb{mu, u_rev},
+                                        parallel_angle};
+            auto [set, zones] = next_contact_set(self, found, geo.lines, cspan(q), par, owned);
+            py::dict inherited;
+            inherited["penalty"] = array_of(zones.penalty);
+            inherited["previous_zone_min"] = array_of(zones.previous_zone_min);
+            inherited["previous_zone_max"] = array_of(zones.previous_zone_max);
+            inherited["changed_kind"] = array_of(zones.changed_kind);
+            return py::make_tuple(std::move(set), inherited);
           },
-          py::arg("found"), py::arg("normals"), py::arg("penalty"), py::arg("g_r"), py::arg("mu"),
-          py::arg("u_rev"), py::arg("elastic_slip"), py::arg("q"), py::arg("first_node"),
-          py::arg("order"), py::arg("radius"), py::arg("owned"))
-      .def("set_penalties",
-           [](ContactSet& self, const carray<double>& k)
-           {
-             for (std::size_t i = 0; i < self.elements.size(); ++i)
-               self.elements[i].penalty = k.data()[i];
-           })
+          py::arg("found"), py::arg("q"), py::arg("first_node"), py::arg("order"),
+          py::arg("radius"), py::arg("penalty"), py::arg("g_r"), py::arg("mu"), py::arg("u_rev"),
+          py::arg("parallel_angle"), py::arg("owned"),
+          "The set of detection pass `found` with history from this one (evaluated by this "
+          "rank: first node on fibre i in `owned`), and what each new zone inherits.")
+      .def("take_layout", &ContactSet::take_layout, py::arg("previous"),
+           "Take over previous's assembly layout if it couples the same nodes.")
+      .def("set_zone_penalties", [](ContactSet& self, const carray<double>& k)
+           { self.set_zone_penalties(cspan(k)); })
+      .def("zone_max_penetration",
+           [](const ContactSet& self) { return array_of(self.zone_max_penetration()); })
+      .def("zone_penalty", [](const ContactSet& self) { return array_of(self.zone_penalty()); })
+      .def("zone_force", [](const ContactSet& self) { return array_of(self.zone_force()); })
       .def("evaluate", [](ContactSet& self, const carray<double>& q)
-           { self.evaluate(std::span<const double>(q.data(), q.size())); })
+           { self.evaluate(cspan(q)); })
       .def("assemble_vector",
            [](ContactSet& self, const carray<double>& q, const carray<std::int32_t>& dofs, Vec b)
            { self.assemble_vector(cspan(q), cspan(dofs), b); })
       .def("assemble_matrix",
-           [](const ContactSet& self, const carray<double>& q, const carray<std::int32_t>& dofs,
-              Mat A) { self.assemble_matrix(cspan(q), cspan(dofs), A); })
+           [](ContactSet& self, const carray<double>& q, const carray<std::int32_t>& dofs, Mat A)
+           { self.assemble_matrix(cspan(q), cspan(dofs), A); })
+      .def("run_kernels", [](ContactSet& self, const carray<double>& q)
+           { return self.run_kernels(cspan(q)); },
+           "The element kernels of both assemblies alone, nothing inserted (benchmarks).")
       .def("nodal_forces",
            [](const ContactSet& self, const carray<double>& q)
            { return array_of(self.nodal_forces(cspan(q))); })
-      .def("insert_pattern",
-           [](const ContactSet& self, Mat P, const carray<std::int32_t>& dofs, double margin)
-           { self.insert_pattern(P, cspan(dofs), margin); },
-           py::arg("P"), py::arg("dofs"), py::arg("margin"))
       .def("commit", &ContactSet::commit)
       .def_property_readonly("num_friction_histories", &ContactSet::num_friction_histories)
+      .def("timing",
+           [](const ContactSet& self)
+           {
+             py::dict out;
+             out["kernel"] = self.timing().kernel;
+             out["total"] = self.timing().total;
+             out["kernel_calls"] = self.timing().kernel_calls;
+             return out;
+           },
+           "Seconds in assemble_vector + assemble_matrix since reset_timing: in the element "
+           "kernels and in all.")
+      .def("reset_timing", &ContactSet::reset_timing)
       .def("data",
            [](const ContactSet& self)
            {
-             const std::size_t n = self.elements.size();
-             std::vector<int> fi(n), fj(n), zone(n);
-             std::vector<double> si(n), sj(n), k(n), gap(n), RN(n), w(n);
-             std::vector<bool> slip(n);
-             std::vector<Eigen::Vector3d> N(n), T(n), el(n), xi(n), xj(n);
-             for (std::size_t i = 0; i < n; ++i)
-             {
-               const auto& e = self.elements[i];
-               fi[i] = e.fibre_i;
-               fj[i] = e.fibre_j;
-               zone[i] = e.zone;
-               si[i] = e.s_i;
-               sj[i] = e.s_j;
-               k[i] = e.penalty;
-               w[i] = e.weight;
-               gap[i] = e.result.gap;
-               RN[i] = e.result.normal_force;
-               slip[i] = e.result.slip;
-               N[i] = e.normal;
-               T[i] = e.result.tangential_force;
-               el[i] = self.elastic_slip(e);
-               xi[i] = e.result.position_i;
-               xj[i] = e.result.position_j;
-             }
+             using Element = ContactElementState;
              py::dict out;
-             out["fibre_i"] = array_of(fi);
-             out["fibre_j"] = array_of(fj);
-             out["zone"] = array_of(zone);
-             out["s_i"] = array_of(si);
-             out["s_j"] = array_of(sj);
-             out["penalty"] = array_of(k);
-             out["weight"] = array_of(w);
-             out["gap"] = array_of(gap);
-             out["normal_force"] = array_of(RN);
-             carray<bool> sl(n);
-             for (std::size_t i = 0; i < n; ++i)
-               sl.mutable_data()[i] = slip[i];
-             out["slip"] = sl;
-             out["normal"] = rows3(N);
-             out["tangential_force"] = rows3(T);
-             out["elastic_slip"] = rows3(el);
-             out["position_i"] = rows3(xi);
-             out["position_j"] = rows3(xj);
+             auto put = [&](const char* name, auto get)
+             { out[name] = column(self.elements(), get); };
+             put("fibre_i", [](const Element& e) { return e.fibre_i; });
+             put("fibre_j", [](const Element& e) { return e.fibre_j; });
+             put("zone", [](const Element& e) { return e.zone; });
+             put("s_i", [](const Element& e) { return e.s_i; });
+             put("s_j", [](const Element& e) { return e.s_j; });
+             put("penalty", [](const Element& e) { return e.penalty; });
+             put("length", [](const Element& e) { return e.length; });
+             put("crossing", [](const Element& e) { return e.crossing; });
+             put("gap", [](const Element& e) { return e.result.gap; });
+             put("normal_force", [](const Element& e) { return e.result.normal_force; });
+             put("slip", [](const Element& e) { return e.result.slip; });
+             put("normal", [](const Element& e) { return e.normal; });
+             put("tangential_force", [](const Element& e) { return e.result.tangential_force; });
+             put("elastic_slip", [&](const Element& e) { return self.elastic_slip(e); });
+             put("position_i", [](const Element& e) { return e.result.position_i; });
+             put("position_j", [](const Element& e) { return e.result.position_j; });
              return out;
-           });
+           },
+           "This rank's elements at their last evaluation, as a dict of arrays (penalty per "
+           "unit length, contact length, forces of the element).");
 }

@@ -34,7 +34,9 @@ def test_force_displacement(num_elements):
     delta, k, reg = 2e-4, 1e5, 0.05
     model.fix(B, 0, ["position", "g1x"], [0, 0, -delta, 0])
     model.fix(B, -1, ["y", "z"], [0, -delta])
-    contact = FibreContact(dict(adapt_penalty=False, penalty=k, regularization=reg))
+    # penalty per unit length: a crossing stands for r_i + r_j = 2R of
+    # contact, so its stiffness (force/length) is k
+    contact = FibreContact(dict(adapt_penalty=False, penalty=k / (2 * R), regularization=reg))
     model.add_effect(contact)
     curve = []
     solver = textile.Solver(model, dict(initial_step=0.125, max_step=0.125, verbose=False),

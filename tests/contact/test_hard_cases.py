@@ -45,7 +45,7 @@ def test_deep_initial_interpenetration():
     model, A, B, _ = crossed_pair(depth=0.5 * R)
     model.fix(B, 0, ["position", "g1x"])
     model.fix(B, -1, ["y", "z"])
-    contact = FibreContact(dict(penalty=1e5))
+    contact = FibreContact(dict(penalty=1e5 / (2 * R)))  # crossings of stiffness 1e5 N/m
     model.add_effect(contact)
     history, converged = solve_or_fail_cleanly(model, dict(initial_step=1.0, max_step=1.0))
     assert converged
@@ -93,7 +93,8 @@ def test_very_stiff_penalty():
     k = 1e3 * 48 * E * I / L ** 3
     model.fix(B, 0, ["position", "g1x"], [0, 0, -1e-4, 0])
     model.fix(B, -1, ["y", "z"], [0, -1e-4])
-    contact = FibreContact(dict(penalty=k, adapt_penalty=False))
+    # per unit length: the crossing (equivalent length 2R) has stiffness k
+    contact = FibreContact(dict(penalty=k / (2 * R), adapt_penalty=False))
     model.add_effect(contact)
     history, converged = solve_or_fail_cleanly(model, dict(initial_step=0.25, max_step=0.25))
     assert converged
@@ -121,7 +122,7 @@ def test_three_fibres_meeting_at_one_point():
     for f in (B, C):
         model.fix(f, 0, ["position", "g1x"], lambda t, f=f: [0, 0, -1e-4 * t * (1 + (f is C)), 0])
         model.fix(f, -1, ["position"], lambda t, f=f: [0, 0, -1e-4 * t * (1 + (f is C))])
-    contact = FibreContact(dict(penalty=1e5))
+    contact = FibreContact(dict(penalty=1e5 / (2 * R)))  # crossings of stiffness 1e5 N/m
     model.add_effect(contact)
     history, converged = solve_or_fail_cleanly(model, dict(initial_step=0.25, max_step=0.25))
     assert converged
@@ -166,7 +167,9 @@ def test_dense_bundle_of_19_compressed():
             for n in range(f.num_nodes):
                 w = (0.5 if n in (0, f.num_nodes - 1) else 1.0) * L / (f.num_nodes - 1)
                 model.add_force(f, n, [*(2.0 * w * radial), 0.0])
-    contact = FibreContact(dict(penalty=1e6))
+    # line contacts of 4e8 N/m per metre (1e6 N/m per element of the
+    # default spacing, half an element)
+    contact = FibreContact(dict(penalty=1e6 / (0.5 * L / ne)))
     model.add_effect(contact)
     history, converged = solve_or_fail_cleanly(model, dict(initial_step=0.25, max_step=0.5))
     assert converged

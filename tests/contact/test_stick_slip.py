@@ -35,7 +35,8 @@ def run(angle_deg):
 
     model.fix(B, 0, ["x", "y", "z", "g1x"], lambda t: ends(t) + [0.0])
     model.fix(B, -1, ["x", "y", "z"], ends)
-    contact = FibreContact(dict(adapt_penalty=False, penalty=1e5, regularization=0.05,
+    # per unit length: a crossing (equivalent length 2R) of stiffness 1e5 N/m
+    contact = FibreContact(dict(adapt_penalty=False, penalty=1e5 / (2 * R), regularization=0.05,
                                 friction=MU, reversible_slip=0.01))
     model.add_effect(contact)
     u_rev = 0.01 * R

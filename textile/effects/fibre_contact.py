@@ -1,22 +1,29 @@
 """Fibre-fibre contact and friction through intermediate geometries.
 
-Detection, geometry, normals, laws and their tangents are in C++
-(``cpp/textile/contact/``); this effect runs the algorithm of METHOD.md
-section 4 around Newton:
+Detection, geometry, normals, history transfer, laws, penalty adaptation
+and assembly are in C++ (``cpp/textile/contact/``); this effect runs the
+algorithm of METHOD.md section 4 around Newton and does the few MPI
+reductions, all on per-zone arrays (zone numbers come from the replicated
+detection pass, so every rank agrees on them):
 
-- ``prepare`` (start of a step attempt): find proximity zones between the
-  current centre lines, build the contact elements on their intermediate
-  geometries, carry history (normal orientation, penalty, friction stick
-  point) over from the elements of the previous pass by identity;
-- Newton (the solver's SNES) with elements, particles and normals fixed;
-- ``update`` (after each converged Newton): re-detect and re-normal; adapt
-  each zone's penalty so that its largest penetration stays near the
-  target; ask for another Newton if anything changed beyond tolerance;
+- ``prepare`` (start of a step attempt, at the last converged state):
+  retune the zone penalties for this step (between steps: no Newton solve
+  is added), find proximity zones, build the contact elements on their
+  intermediate geometries, carry history (normal orientation, zone penalty,
+  friction stick point) over from the elements of the previous pass;
+- Newton (the solver's SNES) with elements, particles, normals and
+  penalties fixed;
+- ``update`` (after each converged Newton): re-detect and re-normal; ask
+  for another Newton if the contact forces changed beyond tolerance, or if
+  a zone penetrates beyond the band (emergency retune, counted);
 - ``commit`` (step accepted): friction return mapping (stick points).
 
-Units: lengths in the model's unit, penalties in force/length.
-Sign conventions as in ``contact_element.h``: the normal points from fibre
-j to fibre i, gap < 0 when they interpenetrate.
+Units: lengths in the model's unit. Penalties are per unit length of
+contact (force/length^2): a line contact of penetration p carries
+k_c phi(p) per unit length, whatever the element spacing; a crossing stands
+for the equivalent length r_i + r_j (``contact_set.h`` states this once for
+the C++ side). Sign conventions as in ``contact_element.h``: the normal
+points from fibre j to fibre i, gap < 0 when they interpenetrate.
 """
 from __future__ import annotations
 
@@ -24,6 +31,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from mpi4py import MPI
 
 from .. import _cpp
 from ..options import Options
@@ -40,15 +48,33 @@ class ContactOptions(Options):
         Proximity criterion delta = search_factor * (r_i + r_j) between centre lines.
     spacing:
         Distance between contact elements along an intermediate geometry
-        (length); default half the smallest reference element length.
+        (length); default half the smallest reference element length. It
+        sets how finely a line contact is sampled, not its stiffness.
     regularization:
         g_r = regularization * min(r_i, r_j) (regularization depth).
     target_penetration:
         Target of a zone's largest penetration, in units of g_r.
     penalty:
-        Initial penalty k_c (force/length); default young * radius (smallest).
+        Initial penalty k_c of a zone, per unit length of contact: force per
+        unit length per unit penetration (force/length^2, a pressure). A
+        line contact of penetration p carries k_c phi(p) per unit length
+        (phi(p) = p^2 / (2 g_r) below g_r, p - g_r / 2 beyond), whatever the
+        spacing; a crossing's single element stands for the length
+        r_i + r_j (stiffness k_c (r_i + r_j)). Default: young / 8 (the
+        smallest Young's modulus), the order of the elastic stiffness per
+        length of two round fibres pressed side by side (2D Hertz:
+        pi E* / (2 ln(...)), about E / 8 to E / 4).
     adapt_penalty:
-        Re-tune each zone's penalty towards the target penetration.
+        Re-tune each zone's penalty towards the target penetration: between
+        steps for zones outside penalty_band (no Newton solve added), within
+        a step only for a zone beyond the band's top (an emergency: one more
+        Newton solve, counted in the statistics as ``emergency_retunes``).
+    penalty_band:
+        (low, high), in units of the target: zones below low * target are
+        softened and zones above 3/4 high * target stiffened between steps;
+        above high * target, in the step. Zones inside keep their penalty.
+    max_penalty_change:
+        Bound on the factor by which a zone's penalty changes in one retune.
     penalty_range:
         (low, high) bounds of an adapted penalty, relative to the initial one.
     parallel_angle:
@@ -72,6 +98,8 @@ class ContactOptions(Options):
     target_penetration: float = 2.0
     penalty: float | None = None
     adapt_penalty: bool = True
+    penalty_band: tuple = (0.5, 2.0)
+    max_penalty_change: float = 4.0
     penalty_range: tuple = (1e-3, 1e3)
     parallel_angle: float = 10.0
     friction: float = 0.0
@@ -83,7 +111,7 @@ class ContactOptions(Options):
 
     def __post_init__(self):
         self.require_positive("search_factor", "regularization", "target_penetration",
-                              "reversible_slip", "update_tolerance")
+                              "reversible_slip", "update_tolerance", "max_penalty_change")
         for name in ("spacing", "penalty"):
             v = getattr(self, name)
             if v is not None and (not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0):
@@ -95,6 +123,20 @@ class ContactOptions(Options):
         lo, hi = self.penalty_range
         if not 0 < lo <= 1 <= hi:
             raise ValueError("ContactOptions.penalty_range must be (low <= 1 <= high), positive")
+        lo, hi = self.penalty_band
+        if not 0 < lo <= 1 <= 0.75 * hi:
+            raise ValueError("ContactOptions.penalty_band must be (low, high) with "
+                             "0 < low <= 1 <= 3/4 high")
+        if self.max_penalty_change < 1:
+            raise ValueError("ContactOptions.max_penalty_change must be >= 1")
+
+
+def _reduce(comm, values: np.ndarray, op) -> np.ndarray:
+    """Element-wise reduction of a per-zone array over all ranks."""
+    values = np.ascontiguousarray(values)
+    if comm.size > 1:
+        comm.Allreduce(MPI.IN_PLACE, values, op=op)
+    return values
 
 
 class FibreContact(Effect):
@@ -116,7 +158,7 @@ class FibreContact(Effect):
         self.radius = np.array([f.radius for f in mesh.fibres])
         young = min(f.material.young for f in mesh.fibres)
         rmin = self.radius.min()
-        self.k0 = o.penalty if o.penalty is not None else young * rmin
+        self.k0 = o.penalty if o.penalty is not None else young / 8
         self.g_r = o.regularization * rmin
         self.u_rev = o.reversible_slip * rmin
         # contact elements about two per fibre element, consistent with the mesh
@@ -125,147 +167,132 @@ class FibreContact(Effect):
         # a fibre's own neighbourhood is never "in contact" with itself
         self.self_exclusion = (4 * o.search_factor * 2 * self.radius.max() + 2 * self.spacing
                                if o.self_contact else math.inf)
+        low, high = o.penalty_band
+        self.adaptation = _cpp.PenaltyAdaptation(
+            target=o.target_penetration * self.g_r, regularization=self.g_r, band_low=low,
+            retune_high=0.75 * high, band_high=high, max_change=o.max_penalty_change,
+            k_min=o.penalty_range[0] * self.k0, k_max=o.penalty_range[1] * self.k0)
         self.set = _cpp.ContactSet()
         self._committed = self.set.copy()
-        self._pattern_pairs: set = set()
+        # the pairs of fibre elements the system matrix has room for; the
+        # first pass always rebuilds the matrix (the base one refuses new
+        # entries), later ones only for new couplings
+        self.coverage = _cpp.CouplingPattern()
+        self._matrix_has_contact = False
         # elements farther apart than this are left out of the matrix
         # pattern (they cannot close within one Newton solve)
         self.pattern_margin = 0.5 * rmin
         self.stats = {}
+        self._timing = dict(kernel=0.0, total=0.0, kernel_calls=0)
+        self.updates = 0
+        self.emergency_retunes = 0
+        self.retuned_zones = 0
+        self.penalty_conversions = 0
 
     # -- detection and history -----------------------------------------------
-    def _detect(self, q: np.ndarray) -> dict:
+    def _detect(self, q: np.ndarray):
         mesh = self.model.mesh
-        return _cpp.detect_contacts(np.ascontiguousarray(q), mesh.first_node, mesh.order,
-                                    self.radius, self.options.search_factor, self.self_exclusion,
+        return _cpp.detect_contacts(q, mesh.first_node, mesh.order, self.radius,
+                                    self.options.search_factor, self.self_exclusion,
                                     self.spacing, math.radians(self.options.parallel_angle))
 
+    def _replace_set(self, new) -> None:
+        for k, v in self.set.timing().items():
+            self._timing[k] += v
+        self.set = new
+
     def _rebuild(self, q: np.ndarray) -> bool:
-        """Detect, match history, set normals; True if the set changed."""
-        o = self.options
+        """Detect, carry history, set normals and zone penalties; True if
+        the contact forces at q changed beyond update_tolerance."""
+        o, mesh, comm = self.options, self.model.mesh, self.model.comm
         found = self._detect(q)
-        self._num_zones = int(found["num_zones"])
-        old = self.set.data()
-        n = len(found["fibre_i"])
-        # history by identity: same fibre pair and nearest sections
-        match = np.full(n, -1)
-        if len(old["fibre_i"]):
-            key_old = old["fibre_i"] * 1_000_003 + old["fibre_j"]
-            key_new = found["fibre_i"] * 1_000_003 + found["fibre_j"]
-            for k in range(n):
-                cand = np.flatnonzero(key_old == key_new[k])
-                if len(cand):
-                    d = np.abs(old["s_i"][cand] - found["s_i"][k]) + \
-                        np.abs(old["s_j"][cand] - found["s_j"][k])
-                    best = cand[np.argmin(d)]
-                    if d.min() < 0.75:  # within one element on both fibres
-                        match[k] = best
-        previous = np.zeros((n, 3))
-        penalty = np.full(n, self.k0)
-        elastic_slip = np.zeros((n, 3))
-        has = match >= 0
-        previous[has] = old["normal"][match[has]]
-        penalty[has] = old["penalty"][match[has]]
-        elastic_slip[has] = old["elastic_slip"][match[has]]
-        normals = _cpp.contact_normals(found["tangent_i"], found["tangent_j"], found["tangent"],
-                                       found["centroid_gap"], previous,
-                                       math.radians(o.parallel_angle))
-        # one penalty per zone: the largest carried over (penalties only grow
-        # within a step, so a zone never softens by re-detection)
-        zone = found["zone"]
-        zone_penalty = np.zeros(self._num_zones)
-        np.maximum.at(zone_penalty, zone, np.where(has, penalty, 0.0))
-        comm = self.model.comm
-        if comm.size > 1:  # a zone's elements may live on several ranks
-            from mpi4py import MPI
-            comm.Allreduce(MPI.IN_PLACE, zone_penalty, op=MPI.MAX)
-        penalty = np.where(zone_penalty[zone] > 0, zone_penalty[zone], self.k0)
-        q = np.ascontiguousarray(q)
-        before = self.set.nodal_forces(q)
-        mu = self.options.friction
-        mesh = self.model.mesh
-        self.set.set_elements(found, normals, penalty, self.g_r, mu, self.u_rev, elastic_slip,
-                              np.ascontiguousarray(q), mesh.first_node, mesh.order, self.radius,
-                              mesh.owned)
-        self.set.evaluate(q)
+        old = self.set
+        old.evaluate(q)  # elastic slips and zone forces carried from this state
+        before = old.nodal_forces(q)
+        new, inherited = old.next(found, q, mesh.first_node, mesh.order, self.radius, self.k0,
+                                  self.g_r, o.friction, self.u_rev,
+                                  math.radians(o.parallel_angle), mesh.owned)
+        self._carry_zone_penalties(new, old, inherited, q)
+        new.evaluate(q)
+        new.take_layout(old)  # usually the same nodes: no new assembly layout
+        self._replace_set(new)
         # a coupling the matrix was not preallocated for: ask for a new one
-        pairs = self._coupled_pairs(self.set.data())
-        if not pairs <= self._pattern_pairs:
-            self._pattern_pairs = self._pattern_pairs | pairs
+        if not self._matrix_has_contact or not self.coverage.covers(new, self.pattern_margin):
+            self.coverage.add(new, self.pattern_margin)
+            self._matrix_has_contact = True
             self.model.matrix_stale = True
         # what matters is what the elements do to the fibres at this state
-        after = self.set.nodal_forces(q)
-        comm = self.model.comm
+        after = new.nodal_forces(q)
         diff = comm.allreduce(float(np.sum((after - before) ** 2)))
         size = comm.allreduce(float(np.sum(before ** 2)))
         return diff > o.update_tolerance ** 2 * max(size, 1e-300) or (size == 0 and diff > 0)
 
-    def _coupled_pairs(self, d) -> set:
-        """(fibre, element) pairs of this rank's elements near contact (gap
-        below the pattern margin): the matrix entries they may fill."""
-        mesh = self.model.mesh
-        near = d["gap"] <= self.pattern_margin
-        ne = np.diff(mesh.first_node) // mesh.order
-        fi, fj = d["fibre_i"][near], d["fibre_j"][near]
-        ei = np.minimum(np.floor(d["s_i"][near]).astype(np.int64), ne[fi] - 1)
-        ej = np.minimum(np.floor(d["s_j"][near]).astype(np.int64), ne[fj] - 1)
-        return set(zip(fi.tolist(), ei.tolist(), fj.tolist(), ej.tolist()))
+    def _carry_zone_penalties(self, new, old, inherited: dict, q: np.ndarray) -> None:
+        """One penalty per zone of the new pass: the largest of the elements
+        it inherits from (penalties never soften by re-detection), k0 for a
+        new zone. A zone that changed kind (crossing <-> line contact) has
+        its penalty scaled so that its force at q is the old zone's: the
+        same penalty per length gives different forces to one element of
+        equivalent length and to a line of elements (R_N is linear in k)."""
+        comm = self.model.comm
+        k = _reduce(comm, inherited["penalty"], MPI.MAX)
+        k = np.where(k > 0, k, self.k0)
+        new.set_zone_penalties(k)
+        changed = _reduce(comm, inherited["changed_kind"], MPI.MAX) > 0
+        if not np.any(changed):
+            return
+        lo = _reduce(comm, inherited["previous_zone_min"], MPI.MIN)
+        hi = _reduce(comm, inherited["previous_zone_max"], MPI.MAX)
+        f_old = _reduce(comm, old.zone_force(), MPI.SUM)
+        new.evaluate(q)
+        f_new = _reduce(comm, new.zone_force(), MPI.SUM)
+        previous = np.where(changed & (lo == hi) & (hi >= 0), hi, -1)
+        convert = (previous >= 0) & (f_new > 0)
+        convert[convert] &= f_old[previous[convert]] > 0
+        k[convert] *= f_old[previous[convert]] / f_new[convert]
+        new.set_zone_penalties(k)
+        self.penalty_conversions += int(convert.sum())
 
     def add_dynamic_pattern(self, model, preallocator) -> None:
-        self.set.insert_pattern(preallocator, model.beam_global_dofs(model.state()),
-                                self.pattern_margin)
+        self.coverage.insert(preallocator, model.beam_global_dofs(model.state()))
 
-    def _adapt_penalties(self) -> bool:
-        o = self.options
-        if not o.adapt_penalty:
-            return False
-        data = self.set.data()
-        gap, zone, k = data["gap"], data["zone"], data["penalty"]
-        target = o.target_penetration * self.g_r
-        lo, hi = o.penalty_range[0] * self.k0, o.penalty_range[1] * self.k0
-        # zone numbers come from the (replicated) detection pass, so every
-        # rank agrees on them; each holds only its own elements
+    def _zone_state(self) -> tuple[np.ndarray, np.ndarray]:
+        """(penalty, largest penetration) of every zone, over all ranks."""
         comm = self.model.comm
-        zones = np.arange(self._num_zones)
-        pen = np.zeros(self._num_zones)
-        np.maximum.at(pen, zone, np.maximum(-gap, 0.0))
-        if comm.size > 1:
-            from mpi4py import MPI
-            comm.Allreduce(MPI.IN_PLACE, pen, op=MPI.MAX)
-        changed = False
-        for z, p in zip(zones, pen):
-            sel = zone == z
-            if not np.any(sel):
-                continue
-            kz = k[sel].max()
-            # gentle steps (x2 at most): a large jump of the penalty moves
-            # the equilibrium far and can throw Newton off
-            if p > 2.0 * target:
-                factor = min(p / target, 2.0)
-            elif 0 < p < 0.1 * target:
-                factor = 0.5
-            else:
-                continue
-            new = float(np.clip(kz * factor, lo, hi))
-            if abs(new - kz) > 1e-12 * kz:
-                k[sel] = new
-                changed = True
+        return (_reduce(comm, self.set.zone_penalty(), MPI.MAX),
+                _reduce(comm, self.set.zone_max_penetration(), MPI.MAX))
+
+    def _retune(self, in_step: bool) -> int:
+        """Apply the penalty rule (see PenaltyAdaptation in C++) to every
+        zone at the set's last evaluation; the number of zones changed."""
+        if not self.options.adapt_penalty or self.set.num_zones == 0:
+            return 0
+        k, p = self._zone_state()
+        rule = self.adaptation.in_step if in_step else self.adaptation.between_steps
+        new = rule(k, p)
+        changed = int(np.count_nonzero(new != k))
         if changed:
-            self.set.set_penalties(k)
+            self.set.set_zone_penalties(new)
         return changed
 
     # -- load-step protocol ----------------------------------------------------
     def prepare(self, model) -> None:
-        self._rebuild(model.beam_positions(model.state()))
+        # the set holds the last converged state's evaluation: retune for
+        # this step there, then re-detect
+        self.retuned_zones = self._retune(in_step=False)
         self.updates = 0
+        self.emergency_retunes = 0
+        self.penalty_conversions = 0
+        self._rebuild(model.beam_positions(model.state()))
 
     def update(self, model) -> bool:
         self.updates += 1
         q = model.beam_positions(model.state())
         self.set.evaluate(q)
-        changed = self._adapt_penalties()
-        changed = self._rebuild(q) or changed
-        return changed
+        emergency = self._retune(in_step=True)
+        self.emergency_retunes += emergency
+        changed = self._rebuild(q)
+        return changed or emergency > 0
 
     def commit(self, model) -> None:
         self.set.commit()
@@ -273,7 +300,7 @@ class FibreContact(Effect):
         self._statistics(model)
 
     def restore(self, model) -> None:
-        self.set = self._committed.copy()
+        self._replace_set(self._committed.copy())
 
     # -- assembly --------------------------------------------------------------
     def residual_global(self, state: State, b) -> bool:
@@ -287,13 +314,16 @@ class FibreContact(Effect):
 
     # -- reporting ----------------------------------------------------------------
     def _statistics(self, model) -> None:
-        from mpi4py import MPI
         d = self.set.data()
         comm = model.comm
         active = d["normal_force"] > 0
         radius = np.minimum(self.radius[d["fibre_i"]], self.radius[d["fibre_j"]]) \
             if len(d["fibre_i"]) else np.zeros(0)
         pen = np.max(-d["gap"][active] / radius[active]) if np.any(active) else 0.0
+        # penetration band: each active zone's largest penetration / target
+        _, zone_pen = self._zone_state() if self.set.num_zones else (None, np.zeros(0))
+        ratio = zone_pen[zone_pen > 0] / self.adaptation.target
+        low, high = self.options.penalty_band
         self.stats = dict(
             contact_zones=int(comm.allreduce(len(np.unique(d["zone"])), op=MPI.MAX)),
             contact_elements=int(comm.allreduce(len(d["gap"]))),
@@ -302,12 +332,32 @@ class FibreContact(Effect):
             contact_force_sum=float(comm.allreduce(float(d["normal_force"].sum()))),
             slipping_contacts=int(comm.allreduce(int(np.sum(d["slip"] & active)))),
             contact_updates=int(self.updates),
+            active_zones=int(len(ratio)),
+            zone_penetration_min=float(ratio.min()) if len(ratio) else 0.0,
+            zone_penetration_median=float(np.median(ratio)) if len(ratio) else 0.0,
+            zone_penetration_max=float(ratio.max()) if len(ratio) else 0.0,
+            zones_below_band=int(np.count_nonzero(ratio < low)),
+            zones_above_band=int(np.count_nonzero(ratio > high)),
+            retuned_zones=int(self.retuned_zones),
+            emergency_retunes=int(self.emergency_retunes),
+            penalty_conversions=int(self.penalty_conversions),
         )
 
     def statistics(self) -> dict:
         return dict(self.stats)
 
+    def assembly_timing(self) -> dict:
+        """Seconds spent by this effect's C++ assembly (residual + tangent)
+        since setup: in the element kernels ("kernel") and in all ("total",
+        which adds the gap checks of open elements, the node-block sums and
+        the PETSc insertion); "kernel_calls" counts kernel evaluations."""
+        out = dict(self._timing)
+        for k, v in self.set.timing().items():
+            out[k] += v
+        return out
+
     def elements(self) -> dict:
         """This rank's contact elements: arrays of fibres, abscissas, normals,
-        gaps, normal and tangential forces, slip flags."""
+        gaps, normal and tangential forces, slip flags, penalty per unit
+        length and the contact length each element stands for."""
         return self.set.data()

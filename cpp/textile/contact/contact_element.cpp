@@ -34,31 +34,53 @@ Eigen::Vector3d particle_position(const Particle& p, std::span<const double> x)
 
 namespace
 {
-/// Support of a section in direction N: h = R |(g1.N, g2.N)|, the extent of
-/// the (deformed) disk x0 + xi1 g1 + xi2 g2, |xi| <= R, along +-N. Adds its
-/// gradient (times `sign`) into G and its Hessian (times `sign`) into H for
-/// the element whose dofs start at `offset`; returns h.
-double support(const Particle& p, std::span<const double> x, const Eigen::Vector3d& N,
-               double sign, std::size_t offset, Eigen::VectorXd& G, Eigen::MatrixXd* H)
+/// Section vectors g1, g2 at the particle's abscissa.
+std::array<Eigen::Vector3d, 2> section_vectors(const Particle& p, std::span<const double> x,
+                                               const std::array<double, 3>& n)
 {
-  std::array<double, 3> n, dn;
-  beam::lagrange(p.num_nodes, p.xi, n, dn);
-  Eigen::Vector3d g[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  std::array<Eigen::Vector3d, 2> g = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   for (int a = 0; a < p.num_nodes; ++a)
     for (int al = 0; al < 2; ++al)
       g[al] += n[a] * Eigen::Map<const Eigen::Vector3d>(x.data() + 9 * a + 3 + 3 * al);
+  return g;
+}
+
+/// (g1.N, g2.N), or zero when the section is edge-on to N (fibre along the
+/// normal): no extent, and no direction to differentiate.
+Eigen::Vector2d support_direction(const std::array<Eigen::Vector3d, 2>& g,
+                                  const Eigen::Vector3d& N)
+{
   const Eigen::Vector2d c(g[0].dot(N), g[1].dot(N));
+  if (c.norm() < 1e-12 * (g[0].norm() + g[1].norm()))
+    return Eigen::Vector2d::Zero();
+  return c;
+}
+
+using RowMajorMap = Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>;
+
+/// Support of a section in direction N: h = R |(g1.N, g2.N)|, the extent of
+/// the (deformed) disk x0 + xi1 g1 + xi2 g2, |xi| <= R, along +-N. Adds its
+/// gradient (times `sign`) into G and, if H is given, its Hessian (times
+/// `sign` x `h_scale`) into H, for the element whose dofs start at
+/// `offset`; returns h.
+double support(const Particle& p, std::span<const double> x, const Eigen::Vector3d& N,
+               double sign, std::size_t offset, Eigen::VectorXd& G, RowMajorMap* H = nullptr,
+               double h_scale = 1.0)
+{
+  std::array<double, 3> n, dn;
+  beam::lagrange(p.num_nodes, p.xi, n, dn);
+  const Eigen::Vector2d c = support_direction(section_vectors(p, x, n), N);
   const double nc = c.norm();
-  if (nc < 1e-12 * (g[0].norm() + g[1].norm()))
-    return 0.0; // section edge-on to N (fibre along the normal): no extent
+  if (nc == 0)
+    return 0.0;
   const double h = p.radius * nc;
   for (int a = 0; a < p.num_nodes; ++a)
     for (int al = 0; al < 2; ++al)
       G.segment<3>(offset + 9 * a + 3 + 3 * al) += sign * n[a] * p.radius * c(al) / nc * N;
   if (H)
   {
-    const Eigen::Matrix2d M
-        = p.radius * (Eigen::Matrix2d::Identity() / nc - c * c.transpose() / (nc * nc * nc));
+    const Eigen::Matrix2d M = h_scale * p.radius
+                              * (Eigen::Matrix2d::Identity() / nc - c * c.transpose() / (nc * nc * nc));
     const Eigen::Matrix3d NN = N * N.transpose();
     for (int a = 0; a < p.num_nodes; ++a)
       for (int b = 0; b < p.num_nodes; ++b)
@@ -114,28 +136,27 @@ ContactResult contact_element(const Particle& pi, const Particle& pj,
   Eigen::VectorXd G = Eigen::VectorXd::Zero(n);
   const Eigen::Vector3d x0i = centroid(pi, xi, N, 1.0, 0, G);
   const Eigen::Vector3d x0j = centroid(pj, xj, N, -1.0, off_j, G);
-  const double hi = support(pi, xi, N, -1.0, 0, G, nullptr);
-  const double hj = support(pj, xj, N, -1.0, off_j, G, nullptr);
+  const double hi = support(pi, xi, N, -1.0, 0, G);
+  const double hj = support(pj, xj, N, -1.0, off_j, G);
   out.gap = N.dot(x0i - x0j) - hi - hj;
   const double RN = law.reaction(out.gap), dRN = law.stiffness(out.gap);
   out.normal_force = RN;
+  Eigen::Map<Eigen::VectorXd> rv(r.data(), n);
+  RowMajorMap Km(K.data(), K.empty() ? 0 : n, K.empty() ? 0 : n);
+  rv.setZero();
+  if (!K.empty())
+    Km.setZero();
   if (RN == 0 and dRN == 0)
     return out; // open: no force, no stiffness (friction needs R_N > 0)
-  Eigen::MatrixXd H;
+  rv = -RN * G;
   if (!K.empty())
   {
-    // the supports' Hessian (the gradient is already in G)
-    H = Eigen::MatrixXd::Zero(n, n);
+    Km.noalias() = -dRN * G * G.transpose();
+    // minus R_N times the supports' Hessian (the gradient is already in G)
     Eigen::VectorXd scratch = Eigen::VectorXd::Zero(n);
-    support(pi, xi, N, -1.0, 0, scratch, &H);
-    support(pj, xj, N, -1.0, off_j, scratch, &H);
+    support(pi, xi, N, -1.0, 0, scratch, &Km, -RN);
+    support(pj, xj, N, -1.0, off_j, scratch, &Km, -RN);
   }
-  Eigen::Map<Eigen::VectorXd> rv(r.data(), n);
-  rv -= RN * G;
-  Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Km(
-      K.data(), K.empty() ? 0 : n, K.empty() ? 0 : n);
-  if (!K.empty())
-    Km -= dRN * G * G.transpose() + RN * H;
 
   // friction at the material particles: T . dDelta/dq, Delta = sum b_s q_s
   if (friction and friction->mu > 0 and RN > 0)
@@ -160,6 +181,26 @@ ContactResult contact_element(const Particle& pi, const Particle& pj,
       }
   }
   return out;
+}
+
+double contact_gap(const Particle& pi, const Particle& pj, const Eigen::Vector3d& N,
+                   std::span<const double> xi, std::span<const double> xj)
+{
+  // the same expression as contact_element's, to the last bit
+  Eigen::Vector3d x0[2];
+  double h[2];
+  for (int side = 0; side < 2; ++side)
+  {
+    const Particle& p = side == 0 ? pi : pj;
+    const std::span<const double> x = side == 0 ? xi : xj;
+    std::array<double, 3> n, dn;
+    beam::lagrange(p.num_nodes, p.xi, n, dn);
+    x0[side] = Eigen::Vector3d::Zero();
+    for (int a = 0; a < p.num_nodes; ++a)
+      x0[side] += n[a] * Eigen::Map<const Eigen::Vector3d>(x.data() + 9 * a);
+    h[side] = p.radius * support_direction(section_vectors(p, x, n), N).norm();
+  }
+  return N.dot(x0[0] - x0[1]) - h[0] - h[1];
 }
 
 Eigen::Vector3d updated_stick(const Eigen::Vector3d& N, const RegularizedCoulomb& friction,

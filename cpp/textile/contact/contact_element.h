@@ -69,13 +69,21 @@ struct ContactResult
 /// @param friction  nullptr for frictionless contact
 /// @param stick     Delta at the stick point (ignored without friction)
 /// @param xi, xj    current nodal unknowns of the two elements (9 n each)
-/// @param r         += residual, 9 (n_i + n_j) values ([element i, element j])
-/// @param K         += tangent, row-major, if not empty (not symmetric with friction)
+/// @param r         the residual, 9 (n_i + n_j) values ([element i, element j]),
+///                  overwritten (zero for an open element)
+/// @param K         the tangent, row-major, if not empty (not symmetric with
+///                  friction), overwritten: callers need not clear it
 ContactResult contact_element(const Particle& pi, const Particle& pj,
                               const Eigen::Vector3d& normal, const NormalLaw& law,
                               const RegularizedCoulomb* friction, const Eigen::Vector3d& stick,
                               std::span<const double> xi, std::span<const double> xj,
                               std::span<double> r, std::span<double> K);
+
+/// The gap alone, as contact_element computes it, without derivatives or
+/// allocation: lets an assembler skip open elements (R_N = 0 and
+/// dR_N = 0, so neither force nor tangent) before running the kernel.
+double contact_gap(const Particle& pi, const Particle& pj, const Eigen::Vector3d& normal,
+                   std::span<const double> xi, std::span<const double> xj);
 
 /// Stick point after a converged step (return mapping): unchanged in stick;
 /// in slip moved along the slip so that the elastic part is u_rev.

@@ -2,105 +2,173 @@
 #include "../assembly/petsc_error.h"
 #include "regularized_penalty.h"
 
+#include <algorithm>
+#include <chrono>
 #include <stdexcept>
-#include <string>
 
 namespace textile::contact
 {
 namespace
 {
 using assembly::check;
+using Clock = std::chrono::steady_clock;
 
-/// Global dof indices of the element pair, [element i, element j].
-std::vector<std::int32_t> element_dofs(const ContactElementState& e,
-                                       std::span<const std::int32_t> dofs)
+constexpr int dofs_per_node = 9;
+constexpr int max_element_dofs = 3 * dofs_per_node; // a quadratic fibre element
+constexpr int max_pair_dofs = 2 * max_element_dofs;
+
+double seconds_since(Clock::time_point t0)
 {
-  std::vector<std::int32_t> idx;
-  for (const auto* nodes : {&e.nodes_i, &e.nodes_j})
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+/// Current unknowns of one fibre element (9 per node) copied from q.
+std::span<const double> gather(const std::array<std::int64_t, 3>& nodes, int num_nodes,
+                               std::span<const double> q,
+                               std::array<double, max_element_dofs>& buffer)
+{
+  if (num_nodes < 2 or num_nodes > 3)
+    throw std::invalid_argument("ContactSet: a fibre element has 2 or 3 nodes");
+  for (int a = 0; a < num_nodes; ++a)
+    std::copy_n(q.data() + dofs_per_node * nodes[a], dofs_per_node,
+                buffer.data() + dofs_per_node * a);
+  return std::span<const double>(buffer.data(), dofs_per_node * num_nodes);
+}
+
+/// Unknowns of both fibre elements of a contact element, [element i, element j].
+struct ElementUnknowns
+{
+  std::array<double, max_element_dofs> bi, bj;
+  std::span<const double> xi, xj;
+  ElementUnknowns(const ContactElementState& e, std::span<const double> q)
+      : xi(gather(e.nodes_i, e.particle_i.num_nodes, q, bi)),
+        xj(gather(e.nodes_j, e.particle_j.num_nodes, q, bj))
   {
-    const int nn = (nodes == &e.nodes_i ? e.particle_i : e.particle_j).num_nodes;
-    for (int a = 0; a < nn; ++a)
-      for (int k = 0; k < 9; ++k)
-        idx.push_back(dofs[9 * (*nodes)[a] + k]);
   }
-  return idx;
+  std::size_t size() const { return xi.size() + xj.size(); }
+};
+
+/// Global indices of the element pair's unknowns, [element i, element j].
+void element_dofs(const ContactElementState& e, std::span<const std::int32_t> dofs,
+                  std::array<std::int32_t, max_pair_dofs>& idx)
+{
+  std::size_t k = 0;
+  for (int a = 0; a < e.particle_i.num_nodes; ++a)
+    for (int d = 0; d < dofs_per_node; ++d)
+      idx[k++] = dofs[dofs_per_node * e.nodes_i[a] + d];
+  for (int a = 0; a < e.particle_j.num_nodes; ++a)
+    for (int d = 0; d < dofs_per_node; ++d)
+      idx[k++] = dofs[dofs_per_node * e.nodes_j[a] + d];
+}
+
+/// The element's law: an element standing for `length` of contact has the
+/// per-length law times its length (R_N and friction are linear in k).
+RegularizedPenalty element_law(const ContactElementState& e)
+{
+  return RegularizedPenalty(e.penalty * e.length, e.regularization);
+}
+
+/// Open: no force and no stiffness at this gap (for this law, gap >= 0).
+bool is_open(const RegularizedPenalty& law, double gap)
+{
+  return law.reaction(gap) == 0 and law.stiffness(gap) == 0;
 }
 } // namespace
 
-void ContactSet::gather(const ContactElementState& e, std::span<const double> q,
-                        std::vector<double>& xi, std::vector<double>& xj) const
+ContactSet::ContactSet(std::vector<ContactElementState> elements, int num_zones)
+    : _elements(std::move(elements)), _num_zones(num_zones)
 {
-  xi.clear();
-  xj.clear();
-  for (int a = 0; a < e.particle_i.num_nodes; ++a)
-    for (int k = 0; k < 9; ++k)
-      xi.push_back(q[9 * e.nodes_i[a] + k]);
-  for (int a = 0; a < e.particle_j.num_nodes; ++a)
-    for (int k = 0; k < 9; ++k)
-      xj.push_back(q[9 * e.nodes_j[a] + k]);
+  for (const auto& e : _elements)
+    if (e.zone < 0 or e.zone >= num_zones)
+      throw std::invalid_argument("ContactSet: element zone outside 0 .. num_zones - 1");
 }
 
-ContactResult ContactSet::element(const ContactElementState& e, std::span<const double> q,
-                                  std::vector<double>& r, std::vector<double>* K) const
+ContactSet::ContactSet(const ContactSet& other)
+    : _elements(other._elements), _num_zones(other._num_zones)
 {
-  std::vector<double> xi, xj;
-  gather(e, q, xi, xj);
-  const std::size_t n = xi.size() + xj.size();
-  r.assign(n, 0.0);
-  if (K)
-    K->assign(n * n, 0.0);
-  const RegularizedPenalty law(e.penalty, e.regularization);
-  ContactResult res = contact_element(e.particle_i, e.particle_j, e.normal, law,
-                                      e.friction.mu > 0 ? &e.friction : nullptr, e.stick, xi, xj,
-                                      r, K ? std::span<double>(*K) : std::span<double>());
-  // a line-contact element stands for `weight` units of length
-  for (double& v : r)
-    v *= e.weight;
-  if (K)
-    for (double& v : *K)
-      v *= e.weight;
-  res.normal_force *= e.weight;
-  res.tangential_force *= e.weight;
-  return res;
+}
+
+ContactSet& ContactSet::operator=(const ContactSet& other)
+{
+  if (this != &other)
+  {
+    _elements = other._elements;
+    _num_zones = other._num_zones;
+    _blocks = NodeBlockMatrix();
+  }
+  return *this;
+}
+
+ContactResult ContactSet::element(const ContactElementState& e, std::span<const double> xi,
+                                  std::span<const double> xj, std::span<double> r,
+                                  std::span<double> K) const
+{
+  return contact_element(e.particle_i, e.particle_j, e.normal, element_law(e),
+                         e.friction.mu > 0 ? &e.friction : nullptr, e.stick, xi, xj, r, K);
+}
+
+bool ContactSet::take_layout(ContactSet& previous)
+{
+  if (previous._blocks.num_elements() != _elements.size() or _elements.empty())
+    return false;
+  for (std::size_t k = 0; k < _elements.size(); ++k)
+  {
+    const auto &a = _elements[k], &b = previous._elements[k];
+    if (a.nodes_i != b.nodes_i or a.nodes_j != b.nodes_j
+        or a.particle_i.num_nodes != b.particle_i.num_nodes
+        or a.particle_j.num_nodes != b.particle_j.num_nodes)
+      return false;
+  }
+  _blocks = std::move(previous._blocks);
+  previous._blocks = NodeBlockMatrix();
+  return true;
 }
 
 void ContactSet::evaluate(std::span<const double> q)
 {
-  std::vector<double> r;
-  for (auto& e : elements)
-    e.result = element(e, q, r, nullptr);
+  std::array<double, max_pair_dofs> r;
+  for (auto& e : _elements)
+  {
+    const ElementUnknowns x(e, q);
+    e.result = element(e, x.xi, x.xj, std::span<double>(r.data(), x.size()), {});
+  }
 }
 
-void ContactSet::insert_pattern(Mat P, std::span<const std::int32_t> dofs, double margin) const
+std::size_t ContactSet::run_kernels(std::span<const double> q)
 {
-  std::vector<double> zeros;
-  for (const auto& e : elements)
+  std::array<double, max_pair_dofs> r;
+  std::size_t count = 0;
+  for (const auto& e : _elements)
   {
-    if (e.result.gap > margin)
+    const ElementUnknowns x(e, q);
+    if (is_open(element_law(e), contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj)))
       continue;
-    auto idx = element_dofs(e, dofs);
-    std::erase_if(idx, [](std::int32_t i) { return i < 0; });
-    zeros.assign(idx.size() * idx.size(), 0.0);
-    check(MatSetValues(P, static_cast<PetscInt>(idx.size()), idx.data(),
-                       static_cast<PetscInt>(idx.size()), idx.data(), zeros.data(), INSERT_VALUES),
-          "MatSetValues");
+    const std::size_t n = x.size();
+    _K.resize(n * n);
+    element(e, x.xi, x.xj, std::span<double>(r.data(), n), {});
+    element(e, x.xi, x.xj, std::span<double>(r.data(), n), _K);
+    count += 2;
   }
+  return count;
 }
 
 std::vector<double> ContactSet::nodal_forces(std::span<const double> q) const
 {
-  std::vector<double> out(q.size(), 0.0), r;
-  for (const auto& e : elements)
+  std::vector<double> out(q.size(), 0.0);
+  std::array<double, max_pair_dofs> r;
+  for (const auto& e : _elements)
   {
-    element(e, q, r, nullptr);
+    const ElementUnknowns x(e, q);
+    if (is_open(element_law(e), contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj)))
+      continue;
+    element(e, x.xi, x.xj, std::span<double>(r.data(), x.size()), {});
     std::size_t k = 0;
-    for (const auto* nodes : {&e.nodes_i, &e.nodes_j})
-    {
-      const int nn = (nodes == &e.nodes_i ? e.particle_i : e.particle_j).num_nodes;
-      for (int a = 0; a < nn; ++a)
-        for (int d = 0; d < 9; ++d)
-          out[9 * (*nodes)[a] + d] += r[k++];
-    }
+    for (int a = 0; a < e.particle_i.num_nodes; ++a)
+      for (int d = 0; d < dofs_per_node; ++d)
+        out[dofs_per_node * e.nodes_i[a] + d] += r[k++];
+    for (int a = 0; a < e.particle_j.num_nodes; ++a)
+      for (int d = 0; d < dofs_per_node; ++d)
+        out[dofs_per_node * e.nodes_j[a] + d] += r[k++];
   }
   return out;
 }
@@ -108,33 +176,65 @@ std::vector<double> ContactSet::nodal_forces(std::span<const double> q) const
 void ContactSet::assemble_vector(std::span<const double> q, std::span<const std::int32_t> dofs,
                                  Vec b)
 {
-  std::vector<double> r;
-  for (auto& e : elements)
+  const auto t0 = Clock::now();
+  std::array<double, max_pair_dofs> r;
+  std::array<std::int32_t, max_pair_dofs> idx;
+  for (auto& e : _elements)
   {
-    e.result = element(e, q, r, nullptr);
-    if (e.result.normal_force == 0)
-      continue; // open: nothing to add
-    const auto idx = element_dofs(e, dofs);
-    check(VecSetValues(b, static_cast<PetscInt>(idx.size()), idx.data(), r.data(), ADD_VALUES),
+    const ElementUnknowns x(e, q);
+    const double gap = contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj);
+    if (is_open(element_law(e), gap))
+    {
+      e.result = ContactResult{};
+      e.result.gap = gap;
+      continue;
+    }
+    const std::size_t n = x.size();
+    const auto tk = Clock::now();
+    e.result = element(e, x.xi, x.xj, std::span<double>(r.data(), n), {});
+    _timing.kernel += seconds_since(tk);
+    ++_timing.kernel_calls;
+    element_dofs(e, dofs, idx);
+    check(VecSetValues(b, static_cast<PetscInt>(n), idx.data(), r.data(), ADD_VALUES),
           "VecSetValues");
   }
+  _timing.total += seconds_since(t0);
 }
 
 void ContactSet::assemble_matrix(std::span<const double> q, std::span<const std::int32_t> dofs,
-                                 Mat A) const
+                                 Mat A)
 {
-  std::vector<double> r, K;
-  for (const auto& e : elements)
+  const auto t0 = Clock::now();
+  if (!_blocks.built_for(dofs))
   {
-    const auto res = element(e, q, r, &K);
-    const std::size_t n = r.size();
-    if (res.normal_force == 0) // open (R_N = 0 implies dR_N = 0 for this law)
-      continue;
-    const auto idx = element_dofs(e, dofs);
-    check(MatSetValues(A, static_cast<PetscInt>(n), idx.data(), static_cast<PetscInt>(n),
-                       idx.data(), K.data(), ADD_VALUES),
-          "MatSetValues");
+    // every element may close during a Newton solve: lay out all of them
+    std::vector<std::size_t> offsets = {0};
+    std::vector<std::int64_t> nodes;
+    for (const auto& e : _elements)
+    {
+      nodes.insert(nodes.end(), e.nodes_i.begin(), e.nodes_i.begin() + e.particle_i.num_nodes);
+      nodes.insert(nodes.end(), e.nodes_j.begin(), e.nodes_j.begin() + e.particle_j.num_nodes);
+      offsets.push_back(nodes.size());
+    }
+    _blocks.build(offsets, nodes, dofs);
   }
+  std::array<double, max_pair_dofs> r;
+  for (std::size_t k = 0; k < _elements.size(); ++k)
+  {
+    const auto& e = _elements[k];
+    const ElementUnknowns x(e, q);
+    if (is_open(element_law(e), contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj)))
+      continue;
+    const std::size_t n = x.size();
+    _K.resize(n * n); // the kernel overwrites it
+    const auto tk = Clock::now();
+    element(e, x.xi, x.xj, std::span<double>(r.data(), n), _K);
+    _timing.kernel += seconds_since(tk);
+    ++_timing.kernel_calls;
+    _blocks.add(k, _K);
+  }
+  _blocks.insert(A);
+  _timing.total += seconds_since(t0);
 }
 
 Eigen::Vector3d ContactSet::elastic_slip(const ContactElementState& e) const
@@ -146,14 +246,14 @@ Eigen::Vector3d ContactSet::elastic_slip(const ContactElementState& e) const
 std::size_t ContactSet::num_friction_histories() const
 {
   std::size_t n = 0;
-  for (const auto& e : elements)
+  for (const auto& e : _elements)
     n += e.friction.mu > 0;
   return n;
 }
 
 void ContactSet::commit()
 {
-  for (auto& e : elements)
+  for (auto& e : _elements)
   {
     if (e.friction.mu <= 0)
       continue;
@@ -161,6 +261,42 @@ void ContactSet::commit()
       e.stick = updated_stick(e.normal, e.friction, e.result.delta, e.stick);
     else
       e.stick = e.result.delta; // open: sliding starts from where contact begins
+  }
+}
+
+std::vector<double> ContactSet::zone_max_penetration() const
+{
+  std::vector<double> out(_num_zones, 0.0);
+  for (const auto& e : _elements)
+    out[e.zone] = std::max(out[e.zone], -e.result.gap);
+  return out;
+}
+
+std::vector<double> ContactSet::zone_penalty() const
+{
+  std::vector<double> out(_num_zones, 0.0);
+  for (const auto& e : _elements)
+    out[e.zone] = std::max(out[e.zone], e.penalty);
+  return out;
+}
+
+std::vector<double> ContactSet::zone_force() const
+{
+  std::vector<double> out(_num_zones, 0.0);
+  for (const auto& e : _elements)
+    out[e.zone] += e.result.normal_force;
+  return out;
+}
+
+void ContactSet::set_zone_penalties(std::span<const double> k)
+{
+  if (k.size() != static_cast<std::size_t>(_num_zones))
+    throw std::invalid_argument("ContactSet::set_zone_penalties: one penalty per zone needed");
+  for (auto& e : _elements)
+  {
+    if (!(k[e.zone] > 0))
+      throw std::invalid_argument("ContactSet::set_zone_penalties: penalties must be positive");
+    e.penalty = k[e.zone];
   }
 }
 } // namespace textile::contact

@@ -1,7 +1,20 @@
 // The contact elements of a load step and their assembly into PETSc.
+//
+// Penalty units (the one place they are stated for all of contact). Every
+// contact element stands for a length of contact, `length` (length): its
+// share of a line contact's intermediate geometry (intermediate_geometry.h,
+// contact_points), or crossing_length(r_i, r_j) = r_i + r_j for the single
+// element of a crossing. The penalty k_c is a stiffness per unit length of
+// contact: force per unit length per unit penetration (force/length^2, a
+// pressure). The normal law gives the reaction per unit length R_N(gap)
+// (force/length), and an element's force is length x R_N (force), as are
+// its friction force (mu length R_N at most), residual and tangent. So a
+// line contact's stiffness per length is k_c whatever the element spacing,
+// and a crossing's stiffness is k_c (r_i + r_j).
 #pragma once
 
 #include "contact_element.h"
+#include "node_block_matrix.h"
 #include "regularized_coulomb.h"
 
 #include <petscmat.h>
@@ -22,16 +35,19 @@ struct ContactElementState
   int fibre_i = 0, fibre_j = 0;  ///< fibres of the two particles
   double s_i = 0, s_j = 0;       ///< their abscissas (element coordinates)
   int zone = 0;                  ///< proximity zone of this pass
+  bool crossing = false;         ///< the element of a crossing (else of a line contact)
   std::array<std::int64_t, 3> nodes_i{-1, -1, -1}; ///< global nodes of the element on fibre i
   std::array<std::int64_t, 3> nodes_j{-1, -1, -1}; ///< and on fibre j
   Particle particle_i, particle_j;
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(); ///< from j towards i
-  double weight = 1;         ///< share of a line contact (element force = weight x R_N)
-  double penalty = 0;        ///< k_c (force/length)
+  double length = 0;         ///< contact length it stands for (length, see above)
+  double penalty = 0;        ///< k_c per unit length (force/length^2, see above)
   double regularization = 0; ///< g_r (length)
   RegularizedCoulomb friction{0.0, 1.0};
   Eigen::Vector3d stick = Eigen::Vector3d::Zero(); ///< Delta at the stick point
-  // last evaluation (forces already multiplied by the weight)
+  /// Last evaluation; forces are the element's (length x per-length values).
+  /// After an assembly an open element's result holds only its gap (and
+  /// zero forces); evaluate() fills every field.
   ContactResult result;
 };
 
@@ -42,33 +58,52 @@ struct ContactElementState
 /// system of each of those unknowns (-1 where constrained). Each rank
 /// evaluates the elements it was given; insertion uses global indices, so
 /// an element may touch nodes owned by other ranks.
+///
+/// Open elements (gap >= 0: R_N = 0 and dR_N = 0, hence no friction force
+/// either) are recognised by their gap alone: no kernel runs and nothing is
+/// inserted for them.
 class ContactSet
 {
 public:
-  std::vector<ContactElementState> elements;
+  ContactSet() = default;
+  /// Elements of a pass whose zones are numbered 0 .. num_zones - 1.
+  ContactSet(std::vector<ContactElementState> elements, int num_zones);
+  /// Copies the elements; the assembly layout is rebuilt when needed.
+  ContactSet(const ContactSet& other);
+  ContactSet& operator=(const ContactSet& other);
+  ContactSet(ContactSet&&) = default;
+  ContactSet& operator=(ContactSet&&) = default;
+
+  const std::vector<ContactElementState>& elements() const { return _elements; }
+  int num_zones() const { return _num_zones; }
 
   /// b[dofs] += contact residual; updates each element's result.
   void assemble_vector(std::span<const double> q, std::span<const std::int32_t> dofs, Vec b);
 
-  /// A[dofs, dofs] += contact tangent.
-  void assemble_matrix(std::span<const double> q, std::span<const std::int32_t> dofs,
-                       Mat A) const;
+  /// A[dofs, dofs] += contact tangent: element tangents summed per pair of
+  /// fibre nodes, inserted one block row at a time (node_block_matrix.h).
+  void assemble_matrix(std::span<const double> q, std::span<const std::int32_t> dofs, Mat A);
 
-  /// Declare the entries the elements can fill (each element's dofs x its
-  /// dofs, global indices) into a matrix being preallocated: the elements
-  /// whose last evaluated gap is below `margin` (length); farther ones
-  /// cannot close within a Newton solve, and are added by a later rebuild
-  /// if they come near.
-  void insert_pattern(Mat P, std::span<const std::int32_t> dofs, double margin) const;
+  /// Take over `previous`'s assembly layout (node blocks and their slots in
+  /// the matrix) when its elements couple the same nodes in the same order,
+  /// as a re-detection usually finds: the layout then costs nothing. True if
+  /// taken; `previous` keeps its elements but loses its layout.
+  bool take_layout(ContactSet& previous);
 
   /// Evaluate every element at q (results only, no assembly).
   void evaluate(std::span<const double> q);
+
+  /// The kernels alone: residual and tangent of every closed element at q,
+  /// as the two assemblies compute them, nothing inserted (the least an
+  /// assembly can cost; for benchmarks). Returns the number of kernels run.
+  std::size_t run_kernels(std::span<const double> q);
 
   /// Contact forces on every unknown (9 per global node, like q) at q:
   /// lets two element sets be compared by what they do to the fibres.
   std::vector<double> nodal_forces(std::span<const double> q) const;
 
-  /// After a converged step: move the stick points of slipping elements.
+  /// After a converged step: move the stick points of slipping elements
+  /// (from the results of the last evaluate()).
   void commit();
 
   /// Number of elements that keep friction history (mu > 0).
@@ -78,12 +113,38 @@ public:
   /// evaluation: the friction history carried to a re-detected element.
   Eigen::Vector3d elastic_slip(const ContactElementState& e) const;
 
+  /// Per zone (num_zones values), from this set's elements at their last
+  /// evaluation; a zone without elements here gets 0. Zone numbers are
+  /// shared by all ranks: reduce over ranks with MAX, MAX, SUM.
+  std::vector<double> zone_max_penetration() const; ///< largest max(-gap, 0) (length)
+  std::vector<double> zone_penalty() const;         ///< largest k_c
+  std::vector<double> zone_force() const;           ///< sum of normal forces (force)
+
+  /// Every element takes its zone's penalty k[zone] (> 0).
+  void set_zone_penalties(std::span<const double> k);
+
+  /// Seconds spent in assemble_vector and assemble_matrix since the last
+  /// reset: in the element kernels (contact_element), and in all.
+  struct Timing
+  {
+    double kernel = 0, total = 0;
+    std::size_t kernel_calls = 0;
+  };
+  const Timing& timing() const { return _timing; }
+  void reset_timing() { _timing = {}; }
+
 private:
-  /// Residual (and tangent if K) of one element, scaled by its weight.
-  ContactResult element(const ContactElementState& e, std::span<const double> q,
-                        std::vector<double>& r, std::vector<double>* K) const;
-  void gather(const ContactElementState& e, std::span<const double> q, std::vector<double>& xi,
-              std::vector<double>& xj) const;
+  std::vector<ContactElementState> _elements;
+  int _num_zones = 0;
+  NodeBlockMatrix _blocks; // layout of the tangent's node blocks (built on demand)
+  std::vector<double> _K;  // scratch tangent of one element
+  Timing _timing;
+
+  /// Residual (and tangent if K) of one closed element with its current
+  /// unknowns xi, xj; forces are the element's (times its length).
+  ContactResult element(const ContactElementState& e, std::span<const double> xi,
+                        std::span<const double> xj, std::span<double> r,
+                        std::span<double> K) const;
 };
 
 } // namespace textile::contact

@@ -31,7 +31,8 @@ ContactElementState make_element(const Centrelines& c, const ContactPoint& p, in
   e.s_i = p.s_i;
   e.s_j = p.s_j;
   e.zone = zone;
-  e.weight = p.weight;
+  e.crossing = p.crossing;
+  e.length = p.length;
   const int nn = c.order + 1;
   e.particle_i = {nn, element_of(c, p.fibre_i, p.s_i, e.nodes_i), p.xi1_i, p.xi2_i,
                   c.radius[p.fibre_i]};

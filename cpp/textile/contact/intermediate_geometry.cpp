@@ -1,9 +1,11 @@
 #include "intermediate_geometry.h"
 #include "../beam/shape_functions.h"
+#include "../geometry_error.h"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <tuple>
 
 namespace textile::contact
@@ -13,6 +15,18 @@ namespace
 /// |cos| of the angle between the centroid gap and a fibre's axis above
 /// which the contact is an end cap (excluded): within about 8 degrees.
 constexpr double end_cap_cosine = 0.99;
+
+/// Bound on the elements of one zone, in units of the spacing: only a
+/// diverged iterate stretches a zone that far.
+constexpr double max_points_per_zone = 1e6;
+
+/// Pieces of a line contact shorter than this fraction of the spacing are
+/// merged into a neighbour (see contact_points).
+constexpr double merge_fraction = 1e-3;
+
+/// A line contact's pieces may exceed 2 x spacing by this fraction before
+/// they are cut in two (see contact_points).
+constexpr double piece_tolerance = 0.1;
 
 /// The 2-point Gauss-Legendre rule on [-1, 1] (weights 1).
 struct GaussLegendre2
@@ -71,6 +85,8 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> SectionVectors::at(const Centrelines
   }
   return {g1, g2};
 }
+
+double crossing_length(double r_i, double r_j) { return r_i + r_j; }
 
 double intermediate_length(const Centrelines& c, const ProximityZone& z, int samples)
 {
@@ -174,20 +190,21 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
     throw std::invalid_argument("contact_points: spacing must be positive and finite");
   const bool crossing = is_crossing(c, z, parallel_angle, delta_factor);
   const double length = intermediate_length(c, z);
-  // parameters and weights of the elements on the intermediate geometry
-  std::vector<double> params, weights;
+  // parameters and contact lengths of the elements on the intermediate geometry
+  std::vector<double> params, lengths;
   if (crossing)
   {
     params = {0.5};
-    weights = {1.0};
+    lengths = {crossing_length(c.radius[z.fibre_i], c.radius[z.fibre_j])};
   }
   else
   {
     // Line contact: a composite 2-point Gauss rule between the element
-    // boundaries of both fibres (further cut to about `spacing`), weights in
-    // units of `spacing`. Uniform penetration then gives contact nodal
-    // forces equal to the consistent nodal forces of a uniform line load
-    // (the patch test), which collocation at evenly spaced points fails.
+    // boundaries of both fibres (further cut to about `spacing`), each point
+    // standing for its share of the length. Uniform penetration then gives
+    // contact nodal forces equal to the consistent nodal forces of a uniform
+    // line load (the patch test), which collocation at evenly spaced points
+    // fails; and the forces do not depend on `spacing`.
     std::vector<double> cuts = {0.0, 1.0};
     for (const auto& [a, b] : {std::pair{z.a_i, z.b_i}, std::pair{z.a_j, z.b_j}})
       if (b - a > 1e-12)
@@ -195,19 +212,44 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
           if (k > a)
             cuts.push_back((k - a) / (b - a));
     std::sort(cuts.begin(), cuts.end());
+    // Cuts of the two fibres that nearly coincide (parallel fibres meshed
+    // alike, slid by a fraction of a radius) would leave pieces far
+    // shorter than the spacing, each with two elements that carry next to
+    // nothing but cost as much as the others: a piece shorter than
+    // merge_fraction x spacing is merged into its neighbour.
+    std::vector<double> kept = {cuts.front()};
+    for (std::size_t k = 1; k < cuts.size(); ++k)
+      if ((cuts[k] - kept.back()) * length >= merge_fraction * spacing)
+        kept.push_back(cuts[k]);
+    if (kept.size() > 1 and (1.0 - kept.back()) * length < merge_fraction * spacing)
+      kept.pop_back();
+    if (kept.back() != 1.0)
+      kept.push_back(1.0);
+    cuts = std::move(kept);
+    // a state far outside the fibres' scale (a diverged iterate) would ask
+    // for an absurd number of elements: refuse it, the step is cut
+    if (!(length <= max_points_per_zone * spacing))
+      throw GeometryError("contact zone of intermediate length " + std::to_string(length)
+                          + " for an element spacing of " + std::to_string(spacing)
+                          + ": implausible state");
     const GaussLegendre2 gl;
     for (std::size_t k = 0; k + 1 < cuts.size(); ++k)
     {
       const double s0 = cuts[k], s1 = cuts[k + 1], ds = s1 - s0;
       if (ds * length < 1e-9 * spacing)
-        continue;
-      const int parts = std::max(1, static_cast<int>(std::ceil(ds * length / (2.0 * spacing))));
+        continue; // a zone of (next to) no length
+      // pieces of about 2 x spacing at most: the default spacing (half an
+      // element) gives one piece per element, and keeps giving one when the
+      // zone stretches by a hair (a strict bound would double the elements
+      // of a zone between two passes for a strain of 1e-9)
+      const double pieces = ds * length / (2.0 * spacing);
+      const int parts = std::max(1, static_cast<int>(std::ceil(pieces - piece_tolerance)));
       for (int m = 0; m < parts; ++m)
         for (int gpt = 0; gpt < 2; ++gpt)
         {
           const double h = ds / parts;
           params.push_back(s0 + h * (m + 0.5 * (1.0 + gl.x[gpt])));
-          weights.push_back(0.5 * h * length / spacing); // Gauss weights are 1 on [-1, 1]
+          lengths.push_back(0.5 * h * length); // Gauss weights are 1 on [-1, 1]
         }
     }
   }
@@ -220,7 +262,8 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
     p.fibre_i = z.fibre_i;
     p.fibre_j = z.fibre_j;
     p.parameter = params[l];
-    p.weight = weights[l];
+    p.crossing = crossing;
+    p.length = lengths[l];
     if (crossing)
     {
       std::tie(p.s_i, p.s_j) = closest_points(c, z.fibre_i, z.s_i, z.fibre_j, z.s_j);

@@ -45,11 +45,20 @@ struct ContactPoint
   double xi1_i = 0, xi2_i = 0;         ///< particle of fibre i (section coordinates, length)
   double xi1_j = 0, xi2_j = 0;         ///< particle of fibre j
   double parameter = 0;                ///< position in [0, 1] on the intermediate geometry
-  double weight = 1;                   ///< share of a line contact, in units of `spacing` (1 for a crossing)
+  bool crossing = false;               ///< a crossing's single element (else one of a line contact's)
+  double length = 0;                   ///< contact length it stands for (see crossing_length)
   Eigen::Vector3d tangent_i, tangent_j; ///< unit centre-line tangents at s_i, s_j
   Eigen::Vector3d tangent;             ///< unit intermediate tangent
   Eigen::Vector3d centroid_gap;        ///< x0_i(s_i) - x0_j(s_j)
 };
+
+/// Equivalent contact length of a crossing (point contact) between fibres
+/// of radii r_i and r_j: r_i + r_j, the distance of their centre lines at
+/// touch. A crossing's single element stands for this length of line
+/// contact, so that one penalty per unit length (contact_set.h) serves both
+/// kinds of zone; a zone that changes kind has its penalty converted so its
+/// force is continuous (FibreContact).
+double crossing_length(double r_i, double r_j);
 
 /// Length of the intermediate geometry (polyline through `samples` points).
 double intermediate_length(const Centrelines& c, const ProximityZone& z, int samples = 9);
@@ -67,13 +76,17 @@ bool is_crossing(const Centrelines& c, const ProximityZone& z, double parallel_a
 ///
 /// Line contacts (see is_crossing): elements at
 /// the points of a composite 2-point Gauss rule on the intermediate
-/// geometry, cut at both fibres' element boundaries and about every
-/// 2 x spacing, each weighted by its share of the length (in units of
-/// spacing): a contact element's force is weight x R_N(gap).
+/// geometry, cut at both fibres' element boundaries (cuts closer than
+/// spacing / 1000 merged) and about every 2 x spacing (pieces up to 2.2 x
+/// spacing are not cut), each standing for its share of the intermediate geometry's
+/// length (its Gauss weight times the half-length of its piece; the lengths
+/// of a zone sum to the zone's length, whatever the spacing): a contact
+/// element's force is length x R_N(gap), R_N per unit length.
 /// Crossing fibres touch at a point: one element at the closest points of
 /// the two centre lines, where the centroid gap is along t_i x t_j (several
 /// elements off the crossing would measure the gap between points on the
-/// sides of the sections and let the fibres through).
+/// sides of the sections and let the fibres through); it stands for
+/// crossing_length(r_i, r_j).
 ///
 /// End caps are excluded: no element is made where the centroid gap runs
 /// within about 8 degrees of a fibre's axis (a fibre end pushed head-on into

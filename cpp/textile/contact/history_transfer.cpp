@@ -1,0 +1,107 @@
+#include "history_transfer.h"
+#include "contact_normal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <tuple>
+
+namespace textile::contact
+{
+namespace
+{
+/// (fibre_i, fibre_j, element of s_i) in one integer: 21 bits each.
+std::uint64_t pair_element_key(int fibre_i, int fibre_j, std::int64_t element)
+{
+  constexpr std::int64_t limit = std::int64_t{1} << 21;
+  if (fibre_i < 0 or fibre_j < 0 or fibre_i >= limit or fibre_j >= limit or element < -1
+      or element + 1 >= limit)
+    throw std::invalid_argument("match_history: fibre or element number out of range");
+  // element + 1: a window may start one element before the first
+  return (static_cast<std::uint64_t>(fibre_i) << 42) | (static_cast<std::uint64_t>(fibre_j) << 21)
+         | static_cast<std::uint64_t>(element + 1);
+}
+
+std::int64_t element_index(double s) { return static_cast<std::int64_t>(std::floor(s)); }
+} // namespace
+
+std::vector<int> match_history(std::span<const ContactPoint> points,
+                               std::span<const ContactElementState> old, double max_distance)
+{
+  if (!(max_distance > 0) or !std::isfinite(max_distance))
+    throw std::invalid_argument("match_history: max_distance must be positive and finite");
+  std::vector<std::pair<std::uint64_t, int>> keyed(old.size());
+  for (std::size_t k = 0; k < old.size(); ++k)
+    keyed[k] = {pair_element_key(old[k].fibre_i, old[k].fibre_j, element_index(old[k].s_i)),
+                static_cast<int>(k)};
+  std::sort(keyed.begin(), keyed.end()); // by key, then by index: ties go to the lower index
+
+  std::vector<int> match(points.size(), -1);
+  for (std::size_t p = 0; p < points.size(); ++p)
+  {
+    const ContactPoint& pt = points[p];
+    double best = max_distance;
+    int best_index = -1;
+    const std::int64_t lo = std::max<std::int64_t>(element_index(pt.s_i - max_distance), -1);
+    const std::int64_t hi = element_index(pt.s_i + max_distance);
+    for (std::int64_t e = lo; e <= hi; ++e)
+    {
+      const std::uint64_t key = pair_element_key(pt.fibre_i, pt.fibre_j, e);
+      auto it = std::lower_bound(keyed.begin(), keyed.end(), std::pair{key, -1});
+      for (; it != keyed.end() and it->first == key; ++it)
+      {
+        const ContactElementState& o = old[it->second];
+        const double d = std::abs(o.s_i - pt.s_i) + std::abs(o.s_j - pt.s_j);
+        if (d < best or (d == best and best_index >= 0 and it->second < best_index))
+        {
+          best = d;
+          best_index = it->second;
+        }
+      }
+    }
+    match[p] = best_index;
+  }
+  return match;
+}
+
+std::pair<ContactSet, ZoneInheritance>
+next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c,
+                 std::span<const double> q, const ElementParameters& par,
+                 std::pair<std::int64_t, std::int64_t> owned)
+{
+  const auto& previous = old.elements();
+  const std::vector<int> match = match_history(d.points, previous);
+  const std::size_t nz = d.zones.size();
+  ZoneInheritance zones{std::vector<double>(nz, 0.0),
+                        std::vector<int>(nz, std::numeric_limits<int>::max()),
+                        std::vector<int>(nz, -1), std::vector<int>(nz, 0)};
+  std::vector<ContactElementState> elements;
+  for (std::size_t k = 0; k < d.points.size(); ++k)
+  {
+    const ContactPoint& p = d.points[k];
+    const int z = d.zone_of_point[k];
+    const ContactElementState* from = match[k] >= 0 ? &previous[match[k]] : nullptr;
+    if (from)
+    {
+      zones.penalty[z] = std::max(zones.penalty[z], from->penalty);
+      zones.previous_zone_min[z] = std::min(zones.previous_zone_min[z], from->zone);
+      zones.previous_zone_max[z] = std::max(zones.previous_zone_max[z], from->zone);
+      zones.changed_kind[z] |= from->crossing != p.crossing;
+    }
+    std::array<std::int64_t, 3> nodes;
+    element_of(c, p.fibre_i, p.s_i, nodes);
+    // each element is evaluated by the rank owning its first node on fibre i
+    if (nodes[0] < owned.first or nodes[0] >= owned.second)
+      continue;
+    const Eigen::Vector3d previous_normal = from ? from->normal : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d normal = contact_normal(p.tangent_i, p.tangent_j, p.tangent,
+                                                  p.centroid_gap, previous_normal,
+                                                  par.parallel_angle);
+    const Eigen::Vector3d slip = from ? old.elastic_slip(*from) : Eigen::Vector3d::Zero();
+    elements.push_back(make_element(c, p, z, normal, from ? from->penalty : par.penalty,
+                                    par.regularization, par.friction, slip, q));
+  }
+  return {ContactSet(std::move(elements), static_cast<int>(nz)), std::move(zones)};
+}
+} // namespace textile::contact

@@ -1,0 +1,71 @@
+// History of contact elements carried from one detection pass to the next
+// (METHOD.md sections 3-4).
+//
+// Each pass (loops 1-2) makes new elements; a new element takes over the
+// history of the old element "at the same place": the same ordered fibre
+// pair, and the nearest abscissas on both fibres. It inherits the normal's
+// orientation (the side each fibre is on, kept under deep penetration), the
+// friction stick point (as the elastic slip, so that sliding made in
+// earlier steps is not undone), and its zone's penalty.
+#pragma once
+
+#include "contact_set.h"
+#include "detection.h"
+
+#include <climits>
+#include <cstdint>
+#include <span>
+#include <utility>
+#include <vector>
+
+namespace textile::contact
+{
+
+/// For each new contact point, the index of the old element of the same
+/// fibre pair with the smallest |s_i - s_i'| + |s_j - s_j'| (element
+/// coordinates), if that is below max_distance (0.75: within one element on
+/// both fibres); -1 if there is none. Ties go to the lower index.
+///
+/// Old elements are sorted by the key (fibre_i, fibre_j, element of s_i),
+/// and a point looks only at the keys whose element is within max_distance
+/// of its s_i: O((points + old) log old), where comparing every point with
+/// every element of its fibre pair was O(points x old).
+std::vector<int> match_history(std::span<const ContactPoint> points,
+                               std::span<const ContactElementState> old,
+                               double max_distance = 0.75);
+
+/// What the zones of a new pass inherit from one rank's old elements. Zone
+/// numbers come from the (replicated) detection pass, so every rank has the
+/// same arrays' meaning: reduce them over ranks (MAX, MIN, MAX, MAX) to get
+/// the whole picture.
+struct ZoneInheritance
+{
+  std::vector<double> penalty;          ///< largest carried penalty (0: none)
+  std::vector<int> previous_zone_min;   ///< smallest old zone matched (INT_MAX: none)
+  std::vector<int> previous_zone_max;   ///< largest old zone matched (-1: none)
+  std::vector<int> changed_kind;        ///< 1 if a matched old element was of the other
+                                        ///< kind (crossing vs line contact)
+};
+
+/// Parameters of the elements a pass makes.
+struct ElementParameters
+{
+  double penalty = 0;         ///< k_c of an element without history (see contact_set.h)
+  double regularization = 0;  ///< g_r (length)
+  RegularizedCoulomb friction;
+  double parallel_angle = 0;  ///< radians, for the normals (contact_normal)
+};
+
+/// The contact set of detection pass d at state q (all nodes, 9 unknowns
+/// each), with history from `old`: this rank's elements only, those whose
+/// first node on fibre i lies in [owned.first, owned.second). The penalty
+/// of an element is its match's, or par.penalty; callers make it one per
+/// zone (ContactSet::set_zone_penalties) from the reduced inheritance,
+/// which is computed over all points (an old element may pass its zone's
+/// penalty to a point that another rank now evaluates).
+std::pair<ContactSet, ZoneInheritance>
+next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c,
+                 std::span<const double> q, const ElementParameters& par,
+                 std::pair<std::int64_t, std::int64_t> owned);
+
+} // namespace textile::contact
