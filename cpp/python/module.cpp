@@ -125,13 +125,18 @@ PYBIND11_MODULE(_cpp, m)
       .def(py::init(
                [](const beam::ElementRule& rule, const carray<std::int32_t>& conn,
                   const carray<std::int32_t>& groups, std::vector<beam::Material> mats,
-                  std::vector<beam::SectionQuadrature> secs, const carray<double>& X)
+                  std::vector<beam::SectionQuadrature> secs, const carray<double>& X,
+                  const carray<std::int32_t>& numbers)
                {
                  return assembly::BeamAssembler(rule, to_vector(conn), to_vector(groups),
-                                                std::move(mats), std::move(secs), to_vector(X));
+                                                std::move(mats), std::move(secs), to_vector(X),
+                                                to_vector(numbers));
                }),
            py::arg("rule"), py::arg("connectivity"), py::arg("element_group"),
-           py::arg("materials"), py::arg("sections"), py::arg("X"))
+           py::arg("materials"), py::arg("sections"), py::arg("X"),
+           py::arg("element_number") = carray<std::int32_t>(0),
+           "element_number: each element's number within its fibre (error messages; "
+           "default: the local element index)")
       .def_property_readonly("num_elements", &assembly::BeamAssembler::num_elements)
       .def(
           "assemble_vector",

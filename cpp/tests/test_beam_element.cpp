@@ -2,6 +2,7 @@
 // uniform states that the kinematics must reproduce exactly.
 #include "fd.h"
 #include <textile/beam/beam_element.h>
+#include <textile/geometry_error.h>
 
 #include <gtest/gtest.h>
 
@@ -9,6 +10,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <string>
 
 using namespace textile;
 using namespace textile::beam;
@@ -209,4 +211,39 @@ TEST(BeamElement, RejectsDegenerateReference)
     X[k] = X[9 + k] = (k == 3);
   std::vector<double> r(18, 0.0);
   EXPECT_THROW(element_residual_tangent(rule, mat, sec, X, X, r, {}), std::runtime_error);
+}
+
+TEST(BeamElement, FoldedElementIsAGeometryError)
+{
+  // mid node pushed beyond the tip: the centre line reverses between the
+  // Gauss points (the spurious St Venant-Kirchhoff equilibrium at stretch -1)
+  const ElementRule rule{3, gauss_legendre(2), true};
+  const Material mat{1.0, 0.3};
+  const auto sec = disk_quadrature(0.01, 4);
+  const auto X = reference(3, 0.2, 0.0);
+  auto x = X;
+  x[9] = 0.24;
+  std::vector<double> r(27, 0.0), K(27 * 27, 0.0);
+  EXPECT_THROW(element_residual_tangent(rule, mat, sec, X, x, r, {}), GeometryError);
+  EXPECT_THROW(element_residual_tangent(rule, mat, sec, X, x, {}, K), GeometryError);
+  EXPECT_THROW(element_fields(rule, mat, sec, X, x), GeometryError);
+  try
+  {
+    element_residual_tangent(rule, mat, sec, X, x, r, {});
+  }
+  catch (const GeometryError& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("det F = -"), std::string::npos) << e.what();
+  }
+  // a section flattened onto a line (g2 = g1 at every node): det F = 0
+  x = X;
+  for (int a = 0; a < 3; ++a)
+    for (int k = 0; k < 3; ++k)
+      x[9 * a + 6 + k] = x[9 * a + 3 + k];
+  EXPECT_THROW(element_residual_tangent(rule, mat, sec, X, x, r, {}), GeometryError);
+  // a strongly compressed but unfolded element (stretch 0.2) is in the domain
+  x = X;
+  for (int a = 0; a < 3; ++a)
+    x[9 * a] *= 0.2;
+  EXPECT_NO_THROW(element_residual_tangent(rule, mat, sec, X, x, r, K));
 }

@@ -21,9 +21,13 @@ class BeamElasticity(Effect):
         rule = _cpp.ElementRule(el.order + 1, el.axial_points, el.poisson_cure)
         mats = [_cpp.Material(f.material.young, f.material.poisson) for f in mesh.fibres]
         secs = [_cpp.SectionQuadrature(f.radius, el.section_order) for f in mesh.fibres]
-        groups = mesh.element_fibre[mesh.local_element_ids].astype(np.int32)
+        ids = mesh.local_element_ids
+        groups = mesh.element_fibre[ids].astype(np.int32)
+        # number of each element within its fibre (elements are numbered fibre by fibre)
+        numbers = (ids - np.searchsorted(mesh.element_fibre, groups)).astype(np.int32)
         self._assembler = _cpp.BeamAssembler(rule, mesh.elements_local, groups, mats, secs,
-                                             np.ascontiguousarray(mesh.X_local.ravel()))
+                                             np.ascontiguousarray(mesh.X_local.ravel()),
+                                             numbers)
         self._mesh = mesh
         self.energy = 0.0
 

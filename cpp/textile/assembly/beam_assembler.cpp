@@ -1,16 +1,20 @@
 #include "beam_assembler.h"
+#include "../geometry_error.h"
 #include "petsc_insert.h"
 
 #include <stdexcept>
+#include <string>
 
 namespace textile::assembly
 {
 BeamAssembler::BeamAssembler(beam::ElementRule rule, std::vector<std::int32_t> connectivity,
                              std::vector<std::int32_t> element_group,
                              std::vector<beam::Material> materials,
-                             std::vector<beam::SectionQuadrature> sections, std::vector<double> X)
+                             std::vector<beam::SectionQuadrature> sections, std::vector<double> X,
+                             std::vector<std::int32_t> element_number)
     : _rule(std::move(rule)), _conn(std::move(connectivity)), _group(std::move(element_group)),
-      _materials(std::move(materials)), _sections(std::move(sections)), _X(std::move(X))
+      _number(std::move(element_number)), _materials(std::move(materials)),
+      _sections(std::move(sections)), _X(std::move(X))
 {
   const std::size_t nn = _rule.num_nodes;
   if (nn != 2 and nn != 3)
@@ -30,6 +34,25 @@ BeamAssembler::BeamAssembler(beam::ElementRule rule, std::vector<std::int32_t> c
       throw std::invalid_argument("BeamAssembler: node index out of range");
   for (auto& m : _materials)
     beam::validate(m);
+  if (_number.empty())
+    for (std::size_t e = 0; e < _group.size(); ++e)
+      _number.push_back(static_cast<std::int32_t>(e));
+  if (_number.size() != _group.size())
+    throw std::invalid_argument("BeamAssembler: one element number per element expected");
+}
+
+template <typename Kernel>
+auto BeamAssembler::on_element(std::size_t e, Kernel&& kernel) const
+{
+  try
+  {
+    return kernel();
+  }
+  catch (const GeometryError& error)
+  {
+    throw GeometryError("element " + std::to_string(_number[e]) + " of fibre "
+                        + std::to_string(_group[e]) + ": " + error.what());
+  }
 }
 
 void BeamAssembler::gather(std::size_t e, std::span<const double> u, std::span<double> Xe,
@@ -58,8 +81,10 @@ double BeamAssembler::assemble_vector(std::span<const double> u, std::span<doubl
   {
     gather(e, u, Xe, xe);
     std::fill(re.begin(), re.end(), 0.0);
-    energy += beam::element_residual_tangent(_rule, _materials[_group[e]], _sections[_group[e]],
-                                             Xe, xe, re, {});
+    energy += on_element(e, [&] {
+      return beam::element_residual_tangent(_rule, _materials[_group[e]], _sections[_group[e]],
+                                            Xe, xe, re, {});
+    });
     for (int a = 0; a < nn; ++a)
     {
       const std::size_t node = _conn[e * nn + a];
@@ -82,8 +107,10 @@ void BeamAssembler::assemble_matrix(Mat A, std::span<const double> u,
   {
     gather(e, u, Xe, xe);
     std::fill(Ke.begin(), Ke.end(), 0.0);
-    beam::element_residual_tangent(_rule, _materials[_group[e]], _sections[_group[e]], Xe, xe, {},
-                                   Ke);
+    on_element(e, [&] {
+      return beam::element_residual_tangent(_rule, _materials[_group[e]], _sections[_group[e]],
+                                            Xe, xe, {}, Ke);
+    });
     for (int a = 0; a < nn; ++a)
     {
       const std::size_t node = _conn[e * nn + a];
@@ -103,8 +130,9 @@ std::vector<double> BeamAssembler::fields(std::span<const double> u) const
   for (std::size_t e = 0; e < _group.size(); ++e)
   {
     gather(e, u, Xe, xe);
-    const beam::ElementFields f
-        = beam::element_fields(_rule, _materials[_group[e]], _sections[_group[e]], Xe, xe);
+    const beam::ElementFields f = on_element(e, [&] {
+      return beam::element_fields(_rule, _materials[_group[e]], _sections[_group[e]], Xe, xe);
+    });
     for (int v = 0; v < 6; ++v)
     {
       out[12 * e + v] = f.strain(v);

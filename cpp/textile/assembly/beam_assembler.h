@@ -26,15 +26,20 @@ public:
   /// @param materials     one per group
   /// @param sections      one per group (radius, quadrature)
   /// @param X             reference unknowns, 9 per local node
+  /// @param element_number number of each element within its fibre, for
+  ///                      error messages (empty: the local element index)
   BeamAssembler(beam::ElementRule rule, std::vector<std::int32_t> connectivity,
                 std::vector<std::int32_t> element_group, std::vector<beam::Material> materials,
-                std::vector<beam::SectionQuadrature> sections, std::vector<double> X);
+                std::vector<beam::SectionQuadrature> sections, std::vector<double> X,
+                std::vector<std::int32_t> element_number = {});
 
   std::size_t num_elements() const { return _group.size(); }
   int num_nodes_per_element() const { return _rule.num_nodes; }
 
   /// b += internal force (9 per local node); returns the stored energy of
-  /// this rank's elements.
+  /// this rank's elements. A folded element (det F <= 0 at a quadrature
+  /// point) throws textile::GeometryError naming the element and its fibre
+  /// (group); so do assemble_matrix and fields.
   double assemble_vector(std::span<const double> u, std::span<double> b) const;
 
   /// A += tangent. dofs[9*i + k] is the matrix-local index of unknown k of
@@ -48,9 +53,13 @@ public:
 private:
   void gather(std::size_t e, std::span<const double> u, std::span<double> Xe,
               std::span<double> xe) const;
+  /// kernel() for element e; a GeometryError it throws gets the element's
+  /// number and fibre prepended.
+  template <typename Kernel>
+  auto on_element(std::size_t e, Kernel&& kernel) const;
 
   beam::ElementRule _rule;
-  std::vector<std::int32_t> _conn, _group;
+  std::vector<std::int32_t> _conn, _group, _number;
   std::vector<beam::Material> _materials;
   std::vector<beam::SectionQuadrature> _sections;
   std::vector<double> _X;

@@ -1,8 +1,10 @@
 #include "beam_element.h"
+#include "../geometry_error.h"
 #include "shape_functions.h"
 
 #include <array>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <vector>
 
@@ -84,10 +86,10 @@ PointData<N> point_data(std::span<const double> X, const std::array<double, N>& 
 }
 
 /// Green-Lagrange strain (Voigt) and its derivative with respect to the
-/// element unknowns at one point.
+/// element unknowns at one point; returns det F.
 template <int N>
-void strain(const PointData<N>& p, const Eigen::Matrix<double, 3, 3 * N>& q, Voigt& eps,
-            Eigen::Matrix<double, 6, 9 * N>& Bv)
+double strain(const PointData<N>& p, const Eigen::Matrix<double, 3, 3 * N>& q, Voigt& eps,
+              Eigen::Matrix<double, 6, 9 * N>& Bv)
 {
   // h_j = F e_j, as columns
   const Mat3 h = q * p.psi.transpose();
@@ -106,6 +108,21 @@ void strain(const PointData<N>& p, const Eigen::Matrix<double, 3, 3 * N>& q, Voi
         d = p.psi(k, s) * h.col(j) + p.psi(j, s) * h.col(k);
       Bv.template block<1, 3>(v, 3 * s) = d.transpose();
     }
+  // h = F Q with Q the (proper) local frame: det h = det F
+  return h.determinant();
+}
+
+/// A folded or inverted point (det F <= 0, or not a number) is outside the
+/// model's domain: St Venant-Kirchhoff gives a reversed fibre (stretch -1)
+/// zero energy, so such a state may look like an equilibrium.
+[[noreturn]] void throw_folded(double detF, std::size_t g, double xi_axial, double xi1,
+                               double xi2)
+{
+  std::ostringstream msg;
+  msg << "folded or inverted beam element: det F = " << detF << " <= 0 at axial point " << g
+      << " (xi = " << xi_axial << "), section point (" << xi1 << ", " << xi2
+      << "); the iterate reverses the fibre or flattens its section (load step too large?)";
+  throw GeometryError(msg.str());
 }
 
 Mat3 voigt_to_tensor(const Voigt& S)
@@ -152,7 +169,9 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
     {
       pts[i] = point_data<N>(X, n, dn, sec.xi1[i], sec.xi2[i],
                              rule.axial.weights[g] * sec.weights[i]);
-      strain<N>(pts[i], q, eps[i], Bv[i]);
+      const double detF = strain<N>(pts[i], q, eps[i], Bv[i]);
+      if (!(detF > 0))
+        throw_folded(detF, g, rule.axial.points[g], sec.xi1[i], sec.xi2[i]);
       W += pts[i].dV;
       eps_bar += pts[i].dV * eps[i];
       if (want_K and rule.poisson_cure)
