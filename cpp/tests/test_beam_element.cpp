@@ -247,3 +247,133 @@ TEST(BeamElement, FoldedElementIsAGeometryError)
     x[9 * a] *= 0.2;
   EXPECT_NO_THROW(element_residual_tangent(rule, mat, sec, X, x, r, K));
 }
+
+namespace
+{
+/// Tangent of one element, optionally the MIP Newton tangent for update dx.
+Eigen::MatrixXd tangent(const ElementRule& rule, const Material& mat,
+                        const SectionQuadrature& sec, const std::vector<double>& X,
+                        const std::vector<double>& x, const std::vector<double>& dx = {})
+{
+  const std::size_t n = X.size();
+  std::vector<double> K(n * n, 0.0);
+  element_residual_tangent(rule, mat, sec, X, x, {}, K, dx);
+  return Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+      K.data(), n, n);
+}
+
+/// Every 3-vector (position, g1, g2 of each node) multiplied by A.
+std::vector<double> map_vectors(const Eigen::Matrix3d& A, const std::vector<double>& v)
+{
+  std::vector<double> out(v.size());
+  for (std::size_t s = 0; s < v.size(); s += 3)
+    Eigen::Map<Eigen::Vector3d>{&out[s]} = A * Eigen::Map<const Eigen::Vector3d>(&v[s]);
+  return out;
+}
+
+std::vector<double> random_state(const std::vector<double>& X, double scale, std::mt19937& gen)
+{
+  std::uniform_real_distribution<double> U(-1, 1);
+  std::vector<double> x = X;
+  for (auto& v : x)
+    v += scale * U(gen);
+  return x;
+}
+
+const std::vector<Case> mip_cases = {{2, 1, true, 0.0}, {3, 2, true, 0.0}, {3, 2, true, 2.0},
+                                     {3, 3, false, 2.0}};
+} // namespace
+
+TEST(MipTangent, ZeroOrRigidTranslationUpdateGivesTheExactTangent)
+{
+  const Material mat{2.0e3, 0.3};
+  const auto sec = disk_quadrature(0.05, 4);
+  for (const Case& c : mip_cases)
+  {
+    const ElementRule rule{c.num_nodes, gauss_legendre(c.axial_points), c.cure};
+    const auto X = reference(c.num_nodes, 0.4, c.kappa);
+    std::mt19937 gen(5);
+    const auto x = random_state(X, 0.08, gen);
+    const Eigen::MatrixXd K = tangent(rule, mat, sec, X, x);
+    // du = 0: bit for bit the exact tangent (checked against finite
+    // differences in BeamTangent)
+    const std::vector<double> zero(X.size(), 0.0);
+    EXPECT_EQ((tangent(rule, mat, sec, X, x, zero) - K).norm(), 0.0);
+    // a translation of the centre line strains nothing: h(du) = 0 up to
+    // the round-off of sum_a dN_a = 0
+    std::vector<double> du(X.size(), 0.0);
+    for (int a = 0; a < c.num_nodes; ++a)
+      for (int k = 0; k < 3; ++k)
+        du[9 * a + k] = 0.3 * (k + 1);
+    EXPECT_LT((tangent(rule, mat, sec, X, x, du) - K).norm(), 1e-14 * K.norm());
+  }
+}
+
+TEST(MipTangent, IsSymmetric)
+{
+  const Material mat{2.0e3, 0.3};
+  const auto sec = disk_quadrature(0.05, 4);
+  for (const Case& c : mip_cases)
+  {
+    const ElementRule rule{c.num_nodes, gauss_legendre(c.axial_points), c.cure};
+    const auto X = reference(c.num_nodes, 0.4, c.kappa);
+    std::mt19937 gen(7);
+    const auto x = random_state(X, 0.08, gen);
+    const std::vector<double> zero(X.size(), 0.0);
+    const auto du = random_state(zero, 0.1, gen);
+    const Eigen::MatrixXd K = tangent(rule, mat, sec, X, x, du);
+    // the geometric stiffness of any stress field is symmetric; round-off only
+    EXPECT_LT((K - K.transpose()).norm(), 1e-13 * K.norm());
+  }
+}
+
+TEST(MipTangent, DiffersByTheGeometricStiffnessOfTheUpdatesQuadraticStrain)
+{
+  // K_exact(x) - K_mip(x, du) = K_geo(stress of 1/2 h(du)^T h(du)).
+  // (1) It depends on du only, not on x, and is quadratic in du.
+  // (2) For du = M X (every position and section vector mapped by a fixed
+  //     M), h(du) = M Q is uniform and 1/2 h^T h is the Green-Lagrange
+  //     strain of the uniform state y = P X with P = sqrt(I + M^T M). There
+  //     K_exact(y) = K_mat(y) + K_geo(that stress), and K_mat(y) = T K(X) T^T
+  //     (T = P on every 3-vector; K(X) is purely material), which gives the
+  //     geometric stiffness through exact tangents only.
+  const Material mat{2.0e3, 0.3};
+  const auto sec = disk_quadrature(0.05, 4);
+  for (const Case& c : mip_cases)
+  {
+    const ElementRule rule{c.num_nodes, gauss_legendre(c.axial_points), c.cure};
+    const auto X = reference(c.num_nodes, 0.4, c.kappa);
+    const std::size_t n = X.size();
+    std::mt19937 gen(13);
+    const std::vector<double> zero(n, 0.0);
+    const auto x1 = random_state(X, 0.08, gen), x2 = random_state(X, 0.08, gen);
+    const auto du = random_state(zero, 0.1, gen);
+    std::vector<double> du2(n);
+    for (std::size_t i = 0; i < n; ++i)
+      du2[i] = 2 * du[i];
+    const Eigen::MatrixXd D1 = tangent(rule, mat, sec, X, x1) - tangent(rule, mat, sec, X, x1, du);
+    const Eigen::MatrixXd D2 = tangent(rule, mat, sec, X, x2) - tangent(rule, mat, sec, X, x2, du);
+    const Eigen::MatrixXd D4 = tangent(rule, mat, sec, X, x1) - tangent(rule, mat, sec, X, x1, du2);
+    ASSERT_GT(D1.norm(), 1e-3 * tangent(rule, mat, sec, X, x1).norm()); // not a vacuous test
+    // round-off of differences of O(|K|) tangents
+    EXPECT_LT((D1 - D2).norm(), 1e-10 * D1.norm());
+    EXPECT_LT((D4 - 4 * D1).norm(), 1e-10 * D4.norm());
+
+    Eigen::Matrix3d M;
+    M << 0.2, -0.1, 0.05, 0.07, 0.15, -0.12, -0.03, 0.11, 0.25;
+    const Eigen::Matrix3d P
+        = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(Eigen::Matrix3d::Identity()
+                                                         + M.transpose() * M)
+              .operatorSqrt();
+    Eigen::MatrixXd T = Eigen::MatrixXd::Zero(n, n);
+    for (std::size_t s = 0; s < n; s += 3)
+      T.block<3, 3>(s, s) = P;
+    const Eigen::MatrixXd Kgeo = tangent(rule, mat, sec, X, map_vectors(P, X))
+                                 - T * tangent(rule, mat, sec, X, X) * T.transpose();
+    const Eigen::MatrixXd D = tangent(rule, mat, sec, X, x1)
+                              - tangent(rule, mat, sec, X, x1, map_vectors(M, X));
+    ASSERT_GT(Kgeo.norm(), 1e-3 * tangent(rule, mat, sec, X, x1).norm());
+    EXPECT_LT((D - Kgeo).norm(), 1e-10 * Kgeo.norm()) << "num_nodes=" << c.num_nodes
+                                                       << " kappa=" << c.kappa;
+  }
+}

@@ -39,7 +39,10 @@ class BeamElasticity(Effect):
         self.energy = self._assembler.assemble_vector(state.u["beam"], b["beam"])
 
     def jacobian(self, state: State, A) -> None:
-        self._assembler.assemble_matrix(A, state.u["beam"], state.dofs["beam"])
+        # with the last Newton update (SolverOptions(newton="mip")) the
+        # geometric stiffness uses the linearly extrapolated (MIP) stress
+        self._assembler.assemble_matrix(A, state.u["beam"], state.dofs["beam"],
+                                        state.du.get("beam"))
 
     def element_fields(self, u_beam: np.ndarray) -> np.ndarray:
         """(local elements, 12): section-averaged GL strain and 2nd PK stress

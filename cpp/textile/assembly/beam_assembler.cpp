@@ -96,27 +96,33 @@ double BeamAssembler::assemble_vector(std::span<const double> u, std::span<doubl
 }
 
 void BeamAssembler::assemble_matrix(Mat A, std::span<const double> u,
-                                    std::span<const std::int32_t> dofs) const
+                                    std::span<const std::int32_t> dofs,
+                                    std::span<const double> du) const
 {
-  if (u.size() != _X.size() or dofs.size() != _X.size())
+  if (u.size() != _X.size() or dofs.size() != _X.size()
+      or (!du.empty() and du.size() != _X.size()))
     throw std::invalid_argument("BeamAssembler::assemble_matrix: wrong array size");
   const int nn = _rule.num_nodes, nd = 9 * nn;
-  std::vector<double> Xe(nd), xe(nd), Ke(nd * nd);
+  std::vector<double> Xe(nd), xe(nd), dxe(du.empty() ? 0 : nd), Ke(nd * nd);
   std::vector<std::int32_t> idx(nd);
   for (std::size_t e = 0; e < _group.size(); ++e)
   {
     gather(e, u, Xe, xe);
     std::fill(Ke.begin(), Ke.end(), 0.0);
-    on_element(e, [&] {
-      return beam::element_residual_tangent(_rule, _materials[_group[e]], _sections[_group[e]],
-                                            Xe, xe, {}, Ke);
-    });
     for (int a = 0; a < nn; ++a)
     {
       const std::size_t node = _conn[e * nn + a];
       for (int k = 0; k < 9; ++k)
+      {
         idx[9 * a + k] = dofs[9 * node + k];
+        if (!du.empty())
+          dxe[9 * a + k] = du[9 * node + k];
+      }
     }
+    on_element(e, [&] {
+      return beam::element_residual_tangent(_rule, _materials[_group[e]], _sections[_group[e]],
+                                            Xe, xe, {}, Ke, dxe);
+    });
     add_block(A, idx, idx, Ke);
   }
 }

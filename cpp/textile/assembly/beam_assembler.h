@@ -43,8 +43,11 @@ public:
   double assemble_vector(std::span<const double> u, std::span<double> b) const;
 
   /// A += tangent. dofs[9*i + k] is the matrix-local index of unknown k of
-  /// local node i, or -1 where the dof is constrained.
-  void assemble_matrix(Mat A, std::span<const double> u, std::span<const std::int32_t> dofs) const;
+  /// local node i, or -1 where the dof is constrained. du: empty for the
+  /// exact tangent, or the last Newton update (9 per local node) for the MIP
+  /// Newton tangent (see beam::element_residual_tangent).
+  void assemble_matrix(Mat A, std::span<const double> u, std::span<const std::int32_t> dofs,
+                       std::span<const double> du = {}) const;
 
   /// Element-averaged section strain and stress, 12 values per element
   /// (Voigt strain then stress).

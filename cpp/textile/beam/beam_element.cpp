@@ -125,6 +125,16 @@ double strain(const PointData<N>& p, const Eigen::Matrix<double, 3, 3 * N>& q, V
   throw GeometryError(msg.str());
 }
 
+/// 1/2 h^T h in the Voigt order of the strain (engineering shears), for the
+/// second-order part of the strain of an update: h_j = dF e_j.
+Voigt half_gram(const Mat3& h)
+{
+  const Mat3 C = h.transpose() * h;
+  Voigt v;
+  v << 0.5 * C(0, 0), 0.5 * C(1, 1), 0.5 * C(2, 2), C(1, 2), C(0, 2), C(0, 1);
+  return v;
+}
+
 Mat3 voigt_to_tensor(const Voigt& S)
 {
   Mat3 T;
@@ -135,7 +145,7 @@ Mat3 voigt_to_tensor(const Voigt& S)
 template <int N>
 double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadrature& sec,
                 std::span<const double> X, std::span<const double> x, std::span<double> r,
-                std::span<double> K, ElementFields* fields)
+                std::span<double> K, std::span<const double> dx, ElementFields* fields)
 {
   constexpr int ndof = 9 * N;
   using Dofs = Eigen::Matrix<double, ndof, 1>;
@@ -147,6 +157,8 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
   const VoigtMatrix C = mat.elasticity();
   const VoigtMatrix D = mat.fluctuation_elasticity();
   const bool want_r = !r.empty(), want_K = !K.empty();
+  const bool mip = want_K and !dx.empty();
+  const Eigen::Map<const Eigen::Matrix<double, 3, 3 * N>> dq(mip ? dx.data() : x.data());
 
   Dofs re = Dofs::Zero();
   DofMat Ke = DofMat::Zero();
@@ -156,6 +168,8 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
   const std::size_t nq = sec.size();
   std::vector<PointData<N>> pts(nq);
   std::vector<Voigt> eps(nq);
+  // strain whose stress enters the geometric stiffness (MIP: extrapolated)
+  std::vector<Voigt> eps_geo(nq);
   std::vector<BMat> Bv(nq);
 
   std::array<double, N> n, dn;
@@ -163,7 +177,7 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
   {
     shape<N>(rule.axial.points[g], n, dn);
     double W = 0;
-    Voigt eps_bar = Voigt::Zero();
+    Voigt eps_bar = Voigt::Zero(), eps_geo_bar = Voigt::Zero();
     BMat B_bar = BMat::Zero();
     for (std::size_t i = 0; i < nq; ++i)
     {
@@ -174,12 +188,16 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
         throw_folded(detF, g, rule.axial.points[g], sec.xi1[i], sec.xi2[i]);
       W += pts[i].dV;
       eps_bar += pts[i].dV * eps[i];
+      eps_geo[i] = mip ? Voigt(eps[i] - half_gram(dq * pts[i].psi.transpose())) : eps[i];
+      eps_geo_bar += pts[i].dV * eps_geo[i];
       if (want_K and rule.poisson_cure)
         B_bar += pts[i].dV * Bv[i];
     }
     eps_bar /= W;
+    eps_geo_bar /= W;
     B_bar /= W;
     const Voigt S_bar = C * eps_bar;
+    const Voigt S_geo_bar = C * eps_geo_bar;
     if (fields)
     {
       fields->strain += eps_bar / rule.axial.points.size();
@@ -188,16 +206,18 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
 
     for (std::size_t i = 0; i < nq; ++i)
     {
-      Voigt S;
+      Voigt S, S_geo;
       if (rule.poisson_cure)
       {
         const Voigt de = eps[i] - eps_bar;
         S = S_bar + D * de;
+        S_geo = S_geo_bar + D * (eps_geo[i] - eps_geo_bar);
         energy += pts[i].dV * 0.5 * (eps_bar.dot(S_bar) + de.dot(D * de));
       }
       else
       {
         S = C * eps[i];
+        S_geo = C * eps_geo[i];
         energy += pts[i].dV * 0.5 * eps[i].dot(S);
       }
       if (want_r)
@@ -205,7 +225,7 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
       if (want_K)
       {
         // geometric part: sum_jk S_jk psi_j psi_k^T (x) I3
-        Kg.noalias() += pts[i].dV * pts[i].psi.transpose() * voigt_to_tensor(S) * pts[i].psi;
+        Kg.noalias() += pts[i].dV * pts[i].psi.transpose() * voigt_to_tensor(S_geo) * pts[i].psi;
         if (rule.poisson_cure)
         {
           const BMat dB = Bv[i] - B_bar;
@@ -239,13 +259,13 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
 }
 
 void check_sizes(const ElementRule& rule, std::span<const double> X, std::span<const double> x,
-                 std::span<double> r, std::span<double> K)
+                 std::span<double> r, std::span<double> K, std::span<const double> dx = {})
 {
   if (rule.num_nodes != 2 and rule.num_nodes != 3)
     throw std::invalid_argument("beam element: num_nodes must be 2 or 3");
   const std::size_t n = 9 * rule.num_nodes;
   if (X.size() != n or x.size() != n or (!r.empty() and r.size() != n)
-      or (!K.empty() and K.size() != n * n))
+      or (!K.empty() and K.size() != n * n) or (!dx.empty() and dx.size() != n))
     throw std::invalid_argument("beam element: wrong local array size");
   if (rule.axial.points.empty())
     throw std::invalid_argument("beam element: empty axial quadrature");
@@ -255,12 +275,13 @@ void check_sizes(const ElementRule& rule, std::span<const double> X, std::span<c
 double element_residual_tangent(const ElementRule& rule, const Material& mat,
                                 const SectionQuadrature& section,
                                 std::span<const double> X, std::span<const double> x,
-                                std::span<double> r, std::span<double> K)
+                                std::span<double> r, std::span<double> K,
+                                std::span<const double> dx)
 {
-  check_sizes(rule, X, x, r, K);
+  check_sizes(rule, X, x, r, K, dx);
   if (rule.num_nodes == 2)
-    return evaluate<2>(rule, mat, section, X, x, r, K, nullptr);
-  return evaluate<3>(rule, mat, section, X, x, r, K, nullptr);
+    return evaluate<2>(rule, mat, section, X, x, r, K, dx, nullptr);
+  return evaluate<3>(rule, mat, section, X, x, r, K, dx, nullptr);
 }
 
 ElementFields element_fields(const ElementRule& rule, const Material& mat,
@@ -270,9 +291,9 @@ ElementFields element_fields(const ElementRule& rule, const Material& mat,
   check_sizes(rule, X, x, {}, {});
   ElementFields f;
   if (rule.num_nodes == 2)
-    evaluate<2>(rule, mat, section, X, x, {}, {}, &f);
+    evaluate<2>(rule, mat, section, X, x, {}, {}, {}, &f);
   else
-    evaluate<3>(rule, mat, section, X, x, {}, {}, &f);
+    evaluate<3>(rule, mat, section, X, x, {}, {}, {}, &f);
   return f;
 }
 

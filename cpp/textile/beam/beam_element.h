@@ -57,11 +57,27 @@ struct ElementRule
 /// @param x     Current nodal unknowns, same layout.
 /// @param r     If not empty: += internal force (9*num_nodes).
 /// @param K     If not empty: += tangent, row-major (9n x 9n).
+/// @param dx    Empty: K is the exact tangent dr/dx. Else the last Newton
+///              update of the nodal unknowns (same layout), and K is the
+///              MIP Newton tangent (Magisano, Leonetti & Garcea, IJNME
+///              2017): Newton on the mixed problem (x, S), whose stress
+///              at each quadrature point is the linear extrapolation
+///              S = C (E(x - dx) + dE(x - dx)[dx]). E is quadratic in x,
+///              so that is the stress of
+///                  E_mip = E(x) - 1/2 h(dx)^T h(dx)   (h_j = F e_j),
+///              which the geometric stiffness uses instead of the stress
+///              of E(x); the material stiffness is the exact one and r,
+///              the energy are unchanged. It keeps a large-rotation update
+///              from feeding the spurious quadratic strain of the update
+///              into the next geometric stiffness. dx = 0 gives the exact
+///              tangent.
 /// @return The element's stored energy.
+/// @throws GeometryError if det F <= 0 (folded element) at a point.
 double element_residual_tangent(const ElementRule& rule, const Material& mat,
                                 const SectionQuadrature& section,
                                 std::span<const double> X, std::span<const double> x,
-                                std::span<double> r, std::span<double> K);
+                                std::span<double> r, std::span<double> K,
+                                std::span<const double> dx = {});
 
 /// Section-averaged Green-Lagrange strain and second Piola-Kirchhoff stress
 /// (Voigt, local frame), averaged over the element's axial points.
