@@ -7,6 +7,30 @@
 
 namespace textile::assembly
 {
+template <typename T>
+void BeamAssembler::gather(std::size_t e, std::span<const T> values, std::span<T> out) const
+{
+  const int nn = _rule.num_nodes;
+  for (int a = 0; a < nn; ++a)
+  {
+    const std::size_t node = _conn[e * nn + a];
+    for (int k = 0; k < beam::dofs_per_node; ++k)
+      out[9 * a + k] = values[9 * node + k];
+  }
+}
+
+void BeamAssembler::current(std::size_t e, std::span<const double> u,
+                            std::span<double> xe) const
+{
+  const int nn = _rule.num_nodes;
+  for (int a = 0; a < nn; ++a)
+  {
+    const std::size_t node = _conn[e * nn + a];
+    for (int k = 0; k < beam::dofs_per_node; ++k)
+      xe[9 * a + k] = _X[9 * node + k] + u[9 * node + k];
+  }
+}
+
 BeamAssembler::BeamAssembler(beam::ElementRule rule, std::vector<std::int32_t> connectivity,
                              std::vector<std::int32_t> element_group,
                              std::vector<beam::Material> materials,
@@ -39,6 +63,25 @@ BeamAssembler::BeamAssembler(beam::ElementRule rule, std::vector<std::int32_t> c
       _number.push_back(static_cast<std::int32_t>(e));
   if (_number.size() != _group.size())
     throw std::invalid_argument("BeamAssembler: one element number per element expected");
+
+  std::vector<double> Xe(beam::dofs_per_node * nn);
+  for (std::size_t e = 0; e < _group.size(); ++e)
+  {
+    _ref_offset.push_back(_ref.size());
+    _ref.resize(_ref.size() + beam::num_points(_rule, _sections[_group[e]]));
+    gather<double>(e, _X, Xe);
+    try
+    {
+      beam::reference_points(_rule, _sections[_group[e]], Xe, {_ref.data() + _ref_offset[e],
+                                                                 _ref.size() - _ref_offset[e]});
+    }
+    catch (const std::runtime_error& error)
+    {
+      throw std::runtime_error("element " + std::to_string(_number[e]) + " of fibre "
+                               + std::to_string(_group[e]) + ": " + error.what());
+    }
+  }
+  _ref_offset.push_back(_ref.size());
 }
 
 template <typename Kernel>
@@ -55,19 +98,9 @@ auto BeamAssembler::on_element(std::size_t e, Kernel&& kernel) const
   }
 }
 
-void BeamAssembler::gather(std::size_t e, std::span<const double> u, std::span<double> Xe,
-                           std::span<double> xe) const
+std::span<const beam::ReferencePoint> BeamAssembler::reference(std::size_t e) const
 {
-  const int nn = _rule.num_nodes;
-  for (int a = 0; a < nn; ++a)
-  {
-    const std::size_t node = _conn[e * nn + a];
-    for (int k = 0; k < beam::dofs_per_node; ++k)
-    {
-      Xe[9 * a + k] = _X[9 * node + k];
-      xe[9 * a + k] = _X[9 * node + k] + u[9 * node + k];
-    }
-  }
+  return {_ref.data() + _ref_offset[e], _ref_offset[e + 1] - _ref_offset[e]};
 }
 
 double BeamAssembler::assemble_vector(std::span<const double> u, std::span<double> b) const
@@ -75,15 +108,15 @@ double BeamAssembler::assemble_vector(std::span<const double> u, std::span<doubl
   if (u.size() != _X.size() or b.size() != _X.size())
     throw std::invalid_argument("BeamAssembler::assemble_vector: wrong vector size");
   const int nn = _rule.num_nodes, nd = 9 * nn;
-  std::vector<double> Xe(nd), xe(nd), re(nd);
+  std::vector<double> xe(nd), re(nd);
   double energy = 0;
   for (std::size_t e = 0; e < _group.size(); ++e)
   {
-    gather(e, u, Xe, xe);
+    current(e, u, xe);
     std::fill(re.begin(), re.end(), 0.0);
     energy += on_element(e, [&] {
       return beam::element_residual_tangent(_rule, _materials[_group[e]], _sections[_group[e]],
-                                            Xe, xe, re, {});
+                                            reference(e), xe, re, {});
     });
     for (int a = 0; a < nn; ++a)
     {
@@ -103,28 +136,22 @@ void BeamAssembler::assemble_matrix(Mat A, std::span<const double> u,
       or (!du.empty() and du.size() != _X.size()))
     throw std::invalid_argument("BeamAssembler::assemble_matrix: wrong array size");
   const int nn = _rule.num_nodes, nd = 9 * nn;
-  std::vector<double> Xe(nd), xe(nd), dxe(du.empty() ? 0 : nd), Ke(nd * nd);
-  std::vector<std::int32_t> idx(nd);
+  std::vector<std::int32_t> idx(nd * _group.size());
   for (std::size_t e = 0; e < _group.size(); ++e)
-  {
-    gather(e, u, Xe, xe);
-    std::fill(Ke.begin(), Ke.end(), 0.0);
-    for (int a = 0; a < nn; ++a)
-    {
-      const std::size_t node = _conn[e * nn + a];
-      for (int k = 0; k < 9; ++k)
-      {
-        idx[9 * a + k] = dofs[9 * node + k];
-        if (!du.empty())
-          dxe[9 * a + k] = du[9 * node + k];
-      }
-    }
-    on_element(e, [&] {
-      return beam::element_residual_tangent(_rule, _materials[_group[e]], _sections[_group[e]],
-                                            Xe, xe, {}, Ke, dxe);
-    });
-    add_block(A, idx, idx, Ke);
-  }
+    gather<std::int32_t>(e, dofs, std::span(idx).subspan(e * nd, nd));
+  std::vector<double> xe(nd), dxe(du.empty() ? 0 : nd);
+  _insertion.add_blocks(A, idx, nd,
+                        [&](std::size_t e, std::span<double> Ke)
+                        {
+                          current(e, u, xe);
+                          if (!du.empty())
+                            gather<double>(e, du, dxe);
+                          on_element(e, [&] {
+                            return beam::element_residual_tangent(
+                                _rule, _materials[_group[e]], _sections[_group[e]],
+                                reference(e), xe, {}, Ke, dxe);
+                          });
+                        });
 }
 
 std::vector<double> BeamAssembler::fields(std::span<const double> u) const
@@ -132,12 +159,13 @@ std::vector<double> BeamAssembler::fields(std::span<const double> u) const
   if (u.size() != _X.size())
     throw std::invalid_argument("BeamAssembler::fields: wrong vector size");
   const int nd = 9 * _rule.num_nodes;
-  std::vector<double> Xe(nd), xe(nd), out(12 * _group.size());
+  std::vector<double> xe(nd), out(12 * _group.size());
   for (std::size_t e = 0; e < _group.size(); ++e)
   {
-    gather(e, u, Xe, xe);
+    current(e, u, xe);
     const beam::ElementFields f = on_element(e, [&] {
-      return beam::element_fields(_rule, _materials[_group[e]], _sections[_group[e]], Xe, xe);
+      return beam::element_fields(_rule, _materials[_group[e]], _sections[_group[e]],
+                                  reference(e), xe);
     });
     for (int v = 0; v < 6; ++v)
     {

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "../beam/beam_element.h"
+#include "petsc_insert.h"
 
 #include <petscmat.h>
 
@@ -54,8 +55,13 @@ public:
   std::vector<double> fields(std::span<const double> u) const;
 
 private:
-  void gather(std::size_t e, std::span<const double> u, std::span<double> Xe,
-              std::span<double> xe) const;
+  /// Element e's entries of a nodal array (9 per local node).
+  template <typename T>
+  void gather(std::size_t e, std::span<const T> values, std::span<T> out) const;
+  /// Element e's current unknowns X + u.
+  void current(std::size_t e, std::span<const double> u, std::span<double> xe) const;
+  /// Reference data of element e's quadrature points.
+  std::span<const beam::ReferencePoint> reference(std::size_t e) const;
   /// kernel() for element e; a GeometryError it throws gets the element's
   /// number and fibre prepended.
   template <typename Kernel>
@@ -66,6 +72,13 @@ private:
   std::vector<beam::Material> _materials;
   std::vector<beam::SectionQuadrature> _sections;
   std::vector<double> _X;
+  // reference data of every element's quadrature points, computed once;
+  // element e's start at _ref_offset[e]
+  std::vector<beam::ReferencePoint> _ref;
+  std::vector<std::size_t> _ref_offset;
+  // positions of the element blocks in the matrix (a cache: found again
+  // when the matrix or its pattern changes)
+  mutable BlockInsertion _insertion;
 };
 
 } // namespace textile::assembly

@@ -24,29 +24,27 @@
 // stays exact and symmetric. Chosen over enhanced assumed strains because
 // it needs no extra element unknowns or static condensation.
 //
+// Evaluation: at an axial point the deformation of every section point
+// depends on the 15 values z = [x0', g1, g2, g1', g2'] only
+// (F Q = [g1, g2, x0' + xi1 g1' + xi2 g2'] B, reference_geometry.h). Force
+// and tangent are integrated over the section with respect to z (15
+// unknowns instead of 9 per node) and mapped to the nodes once per axial
+// point through the shape functions.
+//
 // Units: any consistent set (e.g. N, m, Pa). Internal force r = dPi/dx,
 // the derivative of the stored energy with respect to the nodal unknowns
 // (positive in the direction the energy grows); tangent K = dr/dx.
 #pragma once
 
+#include "element_rule.h"
 #include "material.h"
 #include "quadrature.h"
+#include "reference_geometry.h"
 
 #include <span>
 
 namespace textile::beam
 {
-
-/// Unknowns per node: centroid x0, section vectors g1, g2.
-constexpr int dofs_per_node = 9;
-
-/// Integration choices for one element type.
-struct ElementRule
-{
-  int num_nodes = 3;          ///< 2 (linear) or 3 (quadratic)
-  GaussLegendre axial;        ///< points along the element, on [-1, 1]
-  bool poisson_cure = true;   ///< section split law (false: plain 3D SVK)
-};
 
 /// Stored energy, internal force and tangent of one element.
 ///
@@ -79,6 +77,14 @@ double element_residual_tangent(const ElementRule& rule, const Material& mat,
                                 std::span<double> r, std::span<double> K,
                                 std::span<const double> dx = {});
 
+/// The same with the element's reference data already evaluated
+/// (reference_points(rule, section, X, ref)): what an assembler calls.
+double element_residual_tangent(const ElementRule& rule, const Material& mat,
+                                const SectionQuadrature& section,
+                                std::span<const ReferencePoint> ref, std::span<const double> x,
+                                std::span<double> r, std::span<double> K,
+                                std::span<const double> dx = {});
+
 /// Section-averaged Green-Lagrange strain and second Piola-Kirchhoff stress
 /// (Voigt, local frame), averaged over the element's axial points.
 struct ElementFields
@@ -90,5 +96,9 @@ struct ElementFields
 ElementFields element_fields(const ElementRule& rule, const Material& mat,
                              const SectionQuadrature& section,
                              std::span<const double> X, std::span<const double> x);
+
+ElementFields element_fields(const ElementRule& rule, const Material& mat,
+                             const SectionQuadrature& section,
+                             std::span<const ReferencePoint> ref, std::span<const double> x);
 
 } // namespace textile::beam
