@@ -143,6 +143,9 @@ PYBIND11_MODULE(_cpp, m)
            "element_number: each element's number within its fibre (error messages; "
            "default: the local element index)")
       .def_property_readonly("num_elements", &assembly::BeamAssembler::num_elements)
+      .def_property("num_threads", &assembly::BeamAssembler::num_threads,
+                    &assembly::BeamAssembler::set_num_threads,
+                    "threads of the element loops (PETSc insertion stays serial)")
       .def(
           "assemble_vector",
           [](const assembly::BeamAssembler& self, const carray<double>& u, py::array_t<double>& b)

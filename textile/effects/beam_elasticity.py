@@ -1,10 +1,28 @@
 """Elastic energy of all fibre elements (Durville beams with deformable sections)."""
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
 from .. import _cpp
 from .base import Effect, State
+
+
+def element_threads() -> int:
+    """Threads for the beam element loops: ``$TEXTILE_NUM_THREADS`` if set,
+    else the cores this process may run on divided by the MPI ranks started
+    on its node (one rank on a 2-core machine: 2; ``mpirun -n 2``: 1 each).
+    Not collective: the launcher's environment says how many ranks share
+    the node."""
+    env = os.environ.get("TEXTILE_NUM_THREADS")
+    if env:
+        if not env.isdigit() or int(env) < 1:
+            raise ValueError(f"TEXTILE_NUM_THREADS must be a positive integer, got {env!r}")
+        return int(env)
+    local = os.environ.get("OMPI_COMM_WORLD_LOCAL_SIZE") or os.environ.get("MPI_LOCALNRANKS")
+    node_ranks = int(local) if local and local.isdigit() else 1
+    return max(1, len(os.sched_getaffinity(0)) // node_ranks)
 
 
 class BeamElasticity(Effect):
@@ -28,6 +46,7 @@ class BeamElasticity(Effect):
         self._assembler = _cpp.BeamAssembler(rule, mesh.elements_local, groups, mats, secs,
                                              np.ascontiguousarray(mesh.X_local.ravel()),
                                              numbers)
+        self._assembler.num_threads = element_threads()
         self._mesh = mesh
         self.energy = 0.0
 

@@ -1,7 +1,10 @@
 #include "beam_assembler.h"
 #include "../geometry_error.h"
+#include "parallel_for.h"
 #include "petsc_insert.h"
 
+#include <array>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -103,29 +106,49 @@ std::span<const beam::ReferencePoint> BeamAssembler::reference(std::size_t e) co
   return {_ref.data() + _ref_offset[e], _ref_offset[e + 1] - _ref_offset[e]};
 }
 
+void BeamAssembler::set_num_threads(int n)
+{
+  if (n < 1)
+    throw std::invalid_argument("BeamAssembler: num_threads must be >= 1");
+  _num_threads = n;
+}
+
 double BeamAssembler::assemble_vector(std::span<const double> u, std::span<double> b) const
 {
   if (u.size() != _X.size() or b.size() != _X.size())
     throw std::invalid_argument("BeamAssembler::assemble_vector: wrong vector size");
   const int nn = _rule.num_nodes, nd = 9 * nn;
-  std::vector<double> xe(nd), re(nd);
-  double energy = 0;
-  for (std::size_t e = 0; e < _group.size(); ++e)
-  {
-    current(e, u, xe);
-    std::fill(re.begin(), re.end(), 0.0);
-    energy += on_element(e, [&] {
-      return beam::element_residual_tangent(_rule, _materials[_group[e]], _sections[_group[e]],
-                                            reference(e), xe, re, {});
-    });
-    for (int a = 0; a < nn; ++a)
-    {
-      const std::size_t node = _conn[e * nn + a];
-      for (int k = 0; k < 9; ++k)
-        b[9 * node + k] += re[9 * a + k];
-    }
-  }
-  return energy;
+  // thread 0 adds into b, the others into their own copies (neighbouring
+  // elements share nodes), summed afterwards
+  const int nt = std::max<int>(1, std::min<std::size_t>(_num_threads, _group.size()));
+  std::vector<std::vector<double>> partial(nt - 1, std::vector<double>(b.size(), 0.0));
+  std::vector<double> energy(nt, 0.0);
+  parallel_for(_group.size(), nt,
+               [&](std::size_t e0, std::size_t e1, int t)
+               {
+                 std::span<double> out = t == 0 ? b : std::span<double>(partial[t - 1]);
+                 std::array<double, 27> xe, re;
+                 for (std::size_t e = e0; e < e1; ++e)
+                 {
+                   current(e, u, std::span(xe).first(nd));
+                   std::fill_n(re.begin(), nd, 0.0);
+                   energy[t] += on_element(e, [&] {
+                     return beam::element_residual_tangent(
+                         _rule, _materials[_group[e]], _sections[_group[e]], reference(e),
+                         std::span(xe).first(nd), std::span(re).first(nd), {});
+                   });
+                   for (int a = 0; a < nn; ++a)
+                   {
+                     const std::size_t node = _conn[e * nn + a];
+                     for (int k = 0; k < 9; ++k)
+                       out[9 * node + k] += re[9 * a + k];
+                   }
+                 }
+               });
+  for (const auto& p : partial)
+    for (std::size_t i = 0; i < b.size(); ++i)
+      b[i] += p[i];
+  return std::accumulate(energy.begin(), energy.end(), 0.0);
 }
 
 void BeamAssembler::assemble_matrix(Mat A, std::span<const double> u,
@@ -139,19 +162,22 @@ void BeamAssembler::assemble_matrix(Mat A, std::span<const double> u,
   std::vector<std::int32_t> idx(nd * _group.size());
   for (std::size_t e = 0; e < _group.size(); ++e)
     gather<std::int32_t>(e, dofs, std::span(idx).subspan(e * nd, nd));
-  std::vector<double> xe(nd), dxe(du.empty() ? 0 : nd);
-  _insertion.add_blocks(A, idx, nd,
-                        [&](std::size_t e, std::span<double> Ke)
-                        {
-                          current(e, u, xe);
-                          if (!du.empty())
-                            gather<double>(e, du, dxe);
-                          on_element(e, [&] {
-                            return beam::element_residual_tangent(
-                                _rule, _materials[_group[e]], _sections[_group[e]],
-                                reference(e), xe, {}, Ke, dxe);
-                          });
-                        });
+  _insertion.add_blocks(
+      A, idx, nd,
+      [&](std::size_t e, std::span<double> Ke)
+      {
+        std::array<double, 27> xe, dxe;
+        current(e, u, std::span(xe).first(nd));
+        if (!du.empty())
+          gather<double>(e, du, std::span(dxe).first(nd));
+        on_element(e, [&] {
+          return beam::element_residual_tangent(
+              _rule, _materials[_group[e]], _sections[_group[e]], reference(e),
+              std::span(xe).first(nd), {}, Ke,
+              du.empty() ? std::span<const double>() : std::span(dxe).first(nd));
+        });
+      },
+      _num_threads);
 }
 
 std::vector<double> BeamAssembler::fields(std::span<const double> u) const

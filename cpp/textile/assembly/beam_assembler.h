@@ -35,6 +35,12 @@ public:
                 std::vector<std::int32_t> element_number = {});
 
   std::size_t num_elements() const { return _group.size(); }
+
+  /// Threads the element loops of assemble_vector and assemble_matrix use
+  /// (default 1; PETSc insertion stays on the calling thread). The matrix
+  /// does not depend on it; the vector only to round-off (partial sums).
+  int num_threads() const { return _num_threads; }
+  void set_num_threads(int n);
   int num_nodes_per_element() const { return _rule.num_nodes; }
 
   /// b += internal force (9 per local node); returns the stored energy of
@@ -79,6 +85,7 @@ private:
   // positions of the element blocks in the matrix (a cache: found again
   // when the matrix or its pattern changes)
   mutable BlockInsertion _insertion;
+  int _num_threads = 1;
 };
 
 } // namespace textile::assembly

@@ -1,4 +1,5 @@
 #include "petsc_insert.h"
+#include "parallel_for.h"
 #include "petsc_error.h"
 
 #include <algorithm>
@@ -202,50 +203,61 @@ void BlockInsertion::find_positions(Mat A, std::span<const std::int32_t> indices
 }
 
 void BlockInsertion::add_blocks(Mat A, std::span<const std::int32_t> indices, int block_size,
-                                const std::function<void(std::size_t, std::span<double>)>& fill)
+                                const std::function<void(std::size_t, std::span<double>)>& fill,
+                                int num_threads)
 {
   if (block_size <= 0 or indices.size() % block_size != 0)
     throw std::invalid_argument("BlockInsertion: indices must hold whole blocks");
   if (!matches(A, indices, block_size))
     find_positions(A, indices, block_size);
   const std::size_t bs = block_size, nb = indices.size() / bs;
-  std::vector<double> values(bs * bs);
-  if (!_direct)
-  {
-    for (std::size_t b = 0; b < nb; ++b)
-    {
-      std::fill(values.begin(), values.end(), 0.0);
-      fill(b, values);
-      const auto idx = indices.subspan(b * bs, bs);
-      add_block(A, idx, idx, values);
-    }
-    return;
-  }
+
   Mat Ad = A, Ao = nullptr;
-  if (_mpi)
+  if (_direct and _mpi)
     check(MatMPIAIJGetSeqAIJ(A, &Ad, &Ao, nullptr), "MatMPIAIJGetSeqAIJ");
-  Values diag(Ad);
-  std::unique_ptr<Values> off = _mpi ? std::make_unique<Values>(Ao) : nullptr;
+  std::unique_ptr<Values> diag = _direct ? std::make_unique<Values>(Ad) : nullptr;
+  std::unique_ptr<Values> off = (_direct and _mpi) ? std::make_unique<Values>(Ao) : nullptr;
   std::size_t next_remote = 0;
-  for (std::size_t b = 0; b < nb; ++b)
+  auto add = [&](std::size_t b, std::span<const double> values)
   {
-    std::fill(values.begin(), values.end(), 0.0);
-    fill(b, values);
+    const auto idx = indices.subspan(b * bs, bs);
+    if (!_direct)
+    {
+      add_block(A, idx, idx, values);
+      return;
+    }
     const std::int32_t* pos = _position.data() + b * bs * bs;
     for (std::size_t k = 0; k < bs * bs; ++k)
     {
       if (pos[k] >= 0)
-        diag.data[pos[k]] += values[k];
+        diag->data[pos[k]] += values[k];
       else if (pos[k] <= -2)
         off->data[-2 - pos[k]] += values[k];
     }
     if (next_remote < _remote_blocks.size() and _remote_blocks[next_remote] == b)
     {
       // rows of another rank: PETSc's stash (skips the rows marked -1)
-      add_block(A, std::span(_remote_rows).subspan(next_remote * bs, bs),
-                indices.subspan(b * bs, bs), values);
+      add_block(A, std::span(_remote_rows).subspan(next_remote * bs, bs), idx, values);
       ++next_remote;
     }
+  };
+
+  // a chunk of blocks is computed (on the threads), then added in order
+  const std::size_t chunk
+      = num_threads > 1 ? std::clamp<std::size_t>(nb / (4 * num_threads), 64, 1024) : 1;
+  std::vector<double> values(std::min(chunk, nb) * bs * bs);
+  for (std::size_t c0 = 0; c0 < nb; c0 += chunk)
+  {
+    const std::size_t c1 = std::min(nb, c0 + chunk);
+    std::fill(values.begin(), values.begin() + (c1 - c0) * bs * bs, 0.0);
+    parallel_for(c1 - c0, num_threads,
+                 [&](std::size_t i0, std::size_t i1, int)
+                 {
+                   for (std::size_t i = i0; i < i1; ++i)
+                     fill(c0 + i, std::span(values).subspan(i * bs * bs, bs * bs));
+                 });
+    for (std::size_t b = c0; b < c1; ++b)
+      add(b, std::span(values).subspan((b - c0) * bs * bs, bs * bs));
   }
 }
 

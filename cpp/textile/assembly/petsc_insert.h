@@ -38,10 +38,14 @@ public:
   /// For every block b: fill(b, values) adds its row-major values into a
   /// zeroed buffer of block_size^2, then A[idx_b, idx_b] += values with
   /// idx_b = indices[b * block_size, (b + 1) * block_size) (local indices,
-  /// negative: skipped). An exception from fill propagates after A's value
-  /// arrays are handed back.
+  /// negative: skipped). With num_threads > 1, fill runs on that many
+  /// threads (it must be thread-safe) over chunks of blocks, each chunk
+  /// then added by the calling thread, in block order: the matrix does not
+  /// depend on the number of threads. An exception from fill propagates
+  /// after A's value arrays are handed back.
   void add_blocks(Mat A, std::span<const std::int32_t> indices, int block_size,
-                  const std::function<void(std::size_t, std::span<double>)>& fill);
+                  const std::function<void(std::size_t, std::span<double>)>& fill,
+                  int num_threads = 1);
 
 private:
   bool matches(Mat A, std::span<const std::int32_t> indices, int block_size) const;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace textile::beam
@@ -109,6 +110,64 @@ Mat3 voigt_to_tensor(const Voigt& S)
   return T;
 }
 
+/// K += A B^T on the 3x3 blocks on and above the diagonal (K symmetric: the
+/// blocks below are filled at the end), with fixed-size products.
+template <int Cols>
+void add_product_upper(KzMat& K, const Eigen::Matrix<double, 3 * nz, Cols>& A,
+                       const Eigen::Matrix<double, 3 * nz, Cols>& B)
+{
+  [&]<int... l>(std::integer_sequence<int, l...>)
+  {
+    ((K.template block<3 * (l + 1), 3>(0, 3 * l).noalias()
+      += A.template topRows<3 * (l + 1)>().lazyProduct(
+          B.template middleRows<3>(3 * l).transpose())),
+     ...);
+  }(std::make_integer_sequence<int, nz>{});
+}
+
+/// Geometric stiffness with respect to z, sum over section points of
+/// dV beta^T S beta. beta(:, m) = f_m B(r_m, :)^T with r = (2, 0, 1, 2, 2)
+/// and f = (1, 1, 1, xi1, xi2) (convected_derivative), so entry (m, l) is
+/// f_m f_l M(r_m, r_l) with M = B S B^T: the sums of dV M and of its third
+/// row weighted by xi1, xi2 and their products are all it needs.
+class GeometricStiffness
+{
+public:
+  void add(double dV, const Mat3& B, const Mat3& S, double xi1, double xi2)
+  {
+    const Mat3 M = dV * B * S * B.transpose();
+    _M += M;
+    _M1 += xi1 * M.row(2).transpose();
+    _M2 += xi2 * M.row(2).transpose();
+    _m11 += xi1 * xi1 * M(2, 2);
+    _m12 += xi1 * xi2 * M(2, 2);
+    _m22 += xi2 * xi2 * M(2, 2);
+  }
+
+  /// The 5 x 5 matrix (entry m, l multiplies dz_m . dz_l).
+  Eigen::Matrix<double, nz, nz> matrix() const
+  {
+    constexpr std::array<int, 3> r = {2, 0, 1};
+    Eigen::Matrix<double, nz, nz> K;
+    for (int m = 0; m < 3; ++m)
+    {
+      for (int l = 0; l < 3; ++l)
+        K(m, l) = _M(r[m], r[l]);
+      K(m, 3) = K(3, m) = _M1(r[m]);
+      K(m, 4) = K(4, m) = _M2(r[m]);
+    }
+    K(3, 3) = _m11;
+    K(3, 4) = K(4, 3) = _m12;
+    K(4, 4) = _m22;
+    return K;
+  }
+
+private:
+  Mat3 _M = Mat3::Zero();
+  Vec3 _M1 = Vec3::Zero(), _M2 = Vec3::Zero();
+  double _m11 = 0, _m12 = 0, _m22 = 0;
+};
+
 /// A folded or inverted point (det F <= 0, or not a number) is outside the
 /// model's domain: St Venant-Kirchhoff gives a reversed fibre (stretch -1)
 /// zero energy, so such a state may look like an equilibrium.
@@ -178,7 +237,8 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
   const bool mip = want_K and !dx.empty();
   const Eigen::Map<const Eigen::Matrix<double, 3, 3 * N>> dq(mip ? dx.data() : x.data());
   const VoigtMatrix C = mat.elasticity();
-  const VoigtMatrix D = mat.fluctuation_elasticity();
+  // the fluctuation law is diagonal (material.h): its moduli as a vector
+  const Voigt D = mat.fluctuation_elasticity().diagonal();
   const bool cure = rule.poisson_cure;
   // the fluctuation law acts on E33, 2E23, 2E13 only (material.h)
   constexpr std::array<int, 3> fluct_rows = {2, 3, 4};
@@ -246,15 +306,16 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
       {
         const Voigt de = pts[i].eps - eps_bar;
         energy += pts[i].dV * 0.5
-                  * (cure ? eps_bar.dot(S_bar) + de.dot(D * de) : pts[i].eps.dot(C * pts[i].eps));
+                  * (cure ? eps_bar.dot(S_bar) + de.dot(D.cwiseProduct(de))
+                          : pts[i].eps.dot(C * pts[i].eps));
       }
       continue;
     }
 
     // pass 2: stresses, force and tangent with respect to z
     ZMat rz = ZMat::Zero();
-    KzMat Kz = KzMat::Zero();
-    Eigen::Matrix<double, nz, nz> Kg = Eigen::Matrix<double, nz, nz>::Zero();
+    KzMat Kz = KzMat::Zero(); // blocks on and above the diagonal
+    GeometricStiffness Kg;
     for (std::size_t i = 0; i < nq; ++i)
     {
       const SectionPoint& p = pts[i];
@@ -262,9 +323,9 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
       if (cure)
       {
         const Voigt de = p.eps - eps_bar;
-        S = S_bar + D * de;
-        S_geo = S_geo_bar + D * (p.eps_geo - eps_geo_bar);
-        energy += p.dV * 0.5 * (eps_bar.dot(S_bar) + de.dot(D * de));
+        S = S_bar + D.cwiseProduct(de);
+        S_geo = S_geo_bar + D.cwiseProduct(p.eps_geo - eps_geo_bar);
+        energy += p.dV * 0.5 * (eps_bar.dot(S_bar) + de.dot(D.cwiseProduct(de)));
       }
       else
       {
@@ -275,23 +336,25 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
       // S : dE = (h S) : dh = sum_m ((h S) beta)_m . dz_m
       if (want_r)
         rz.noalias() += p.dV * (p.h * voigt_to_tensor(S)) * p.beta;
-      if (want_K)
+      if (!want_K)
+        continue;
+      // geometric part: sum_jk S_jk dh_j . dh_k
+      Kg.add(p.dV, ref[g * nq + i].B, voigt_to_tensor(S_geo), sec.xi1[i], sec.xi2[i]);
+      if (cure)
       {
-        // geometric part: sum_jk S_jk dh_j . dh_k = dz^T (beta^T S beta (x) I3) dz
-        Kg.noalias() += p.dV * p.beta.transpose() * voigt_to_tensor(S_geo) * p.beta;
-        if (cure)
+        // fluctuation: sum_v dV D_vv dB_v^T dB_v over the rows D acts on
+        Eigen::Matrix<double, 3 * nz, 3> Gt;
+        for (int k = 0; k < 3; ++k)
         {
-          // fluctuation: sum_v dV D_vv dB_v^T dB_v over the rows D acts on
-          Eigen::Matrix<double, 3, 3 * nz> G;
-          for (int k = 0; k < 3; ++k)
-          {
-            const int v = fluct_rows[k];
-            G.row(k) = std::sqrt(p.dV * D(v, v)) * (p.Bz.row(v) - Bz_bar.row(v));
-          }
-          Kz.noalias() += G.transpose().lazyProduct(G);
+          const int v = fluct_rows[k];
+          Gt.col(k) = std::sqrt(p.dV * D(v)) * (p.Bz.row(v) - Bz_bar.row(v)).transpose();
         }
-        else
-          Kz.noalias() += (p.dV * p.Bz.transpose()).lazyProduct(C * p.Bz);
+        add_product_upper<3>(Kz, Gt, Gt);
+      }
+      else
+      {
+        const Eigen::Matrix<double, 3 * nz, 6> Bt = p.Bz.transpose();
+        add_product_upper<6>(Kz, Bt, p.dV * Bt * C);
       }
     }
 
@@ -304,24 +367,26 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
     if (want_K)
     {
       if (cure) // the section average sees the 3D law
-        Kz.noalias() += (W * Bz_bar.transpose()).lazyProduct(C * Bz_bar);
-      for (int m = 0; m < nz; ++m)
-        for (int l = 0; l < nz; ++l)
-          Kz.block<3, 3>(3 * m, 3 * l).diagonal().array() += Kg(m, l);
-      // Ke += Nz^T Kz Nz with Nz the (sparse) map from element unknowns to z
-      Eigen::Matrix<double, 3 * nz, ndof> T;
-      for (int t = 0; t < 3 * N; ++t)
       {
-        T.template middleCols<3>(3 * t)
-            = terms[t].c[0] * Kz.template middleCols<3>(3 * terms[t].m[0]);
-        if (terms[t].count == 2)
-          T.template middleCols<3>(3 * t)
-              += terms[t].c[1] * Kz.template middleCols<3>(3 * terms[t].m[1]);
+        const Eigen::Matrix<double, 3 * nz, 6> Bt = Bz_bar.transpose();
+        add_product_upper<6>(Kz, Bt, W * Bt * C);
       }
+      const Eigen::Matrix<double, nz, nz> Kgz = Kg.matrix();
+      for (int m = 0; m < nz; ++m)
+        for (int l = m; l < nz; ++l)
+          Kz.block<3, 3>(3 * m, 3 * l).diagonal().array() += Kgz(m, l);
+      for (int m = 1; m < nz; ++m) // the blocks below the diagonal
+        for (int l = 0; l < m; ++l)
+          Kz.block<3, 3>(3 * m, 3 * l) = Kz.block<3, 3>(3 * l, 3 * m).transpose();
+      // Ke += Nz^T Kz Nz, Nz the sparse map from element unknowns to z
+      // (blocks on and above the diagonal; Ke is symmetric)
       for (int s = 0; s < 3 * N; ++s)
-        for (int k = 0; k < terms[s].count; ++k)
-          Ke.template middleRows<3>(3 * s)
-              += terms[s].c[k] * T.template middleRows<3>(3 * terms[s].m[k]);
+        for (int t = s; t < 3 * N; ++t)
+          for (int k = 0; k < terms[s].count; ++k)
+            for (int l = 0; l < terms[t].count; ++l)
+              Ke.template block<3, 3>(3 * s, 3 * t)
+                  += (terms[s].c[k] * terms[t].c[l])
+                     * Kz.template block<3, 3>(3 * terms[s].m[k], 3 * terms[t].m[l]);
     }
   }
 
@@ -332,8 +397,15 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
   }
   if (want_K)
   {
+    // Ke holds the blocks on and above the diagonal
     Eigen::Map<Eigen::Matrix<double, ndof, ndof, Eigen::RowMajor>> Kout(K.data());
-    Kout += Ke;
+    for (int s = 0; s < 3 * N; ++s)
+      for (int t = 0; t < 3 * N; ++t)
+        if (s <= t)
+          Kout.template block<3, 3>(3 * s, 3 * t) += Ke.template block<3, 3>(3 * s, 3 * t);
+        else
+          Kout.template block<3, 3>(3 * s, 3 * t)
+              += Ke.template block<3, 3>(3 * t, 3 * s).transpose();
   }
   return energy;
 }
