@@ -1,5 +1,5 @@
 #include "petsc_insert.h"
-#include "parallel_for.h"
+#include "ordered_pipeline.h"
 #include "petsc_error.h"
 
 #include <algorithm>
@@ -242,23 +242,30 @@ void BlockInsertion::add_blocks(Mat A, std::span<const std::int32_t> indices, in
     }
   };
 
-  // a chunk of blocks is computed (on the threads), then added in order
-  const std::size_t chunk
-      = num_threads > 1 ? std::clamp<std::size_t>(nb / (4 * num_threads), 64, 1024) : 1;
-  std::vector<double> values(std::min(chunk, nb) * bs * bs);
-  for (std::size_t c0 = 0; c0 < nb; c0 += chunk)
-  {
-    const std::size_t c1 = std::min(nb, c0 + chunk);
-    std::fill(values.begin(), values.begin() + (c1 - c0) * bs * bs, 0.0);
-    parallel_for(c1 - c0, num_threads,
-                 [&](std::size_t i0, std::size_t i1, int)
-                 {
-                   for (std::size_t i = i0; i < i1; ++i)
-                     fill(c0 + i, std::span(values).subspan(i * bs * bs, bs * bs));
-                 });
-    for (std::size_t b = c0; b < c1; ++b)
-      add(b, std::span(values).subspan((b - c0) * bs * bs, bs * bs));
-  }
+  // chunks of blocks computed on the threads, added in order by this one
+  // while the others compute the next chunks
+  const std::size_t chunk = num_threads > 1 ? 16 : 1;
+  const std::size_t num_chunks = (nb + chunk - 1) / chunk;
+  const std::size_t slots = num_threads > 1 ? 4 * num_threads : 1;
+  std::vector<double> values(slots * chunk * bs * bs);
+  auto slot_values = [&](std::size_t slot, std::size_t i)
+  { return std::span(values).subspan((slot * chunk + i) * bs * bs, bs * bs); };
+  ordered_pipeline(
+      num_chunks, num_threads, slots,
+      [&](std::size_t c, std::size_t slot)
+      {
+        for (std::size_t b = c * chunk; b < std::min(nb, (c + 1) * chunk); ++b)
+        {
+          const auto v = slot_values(slot, b - c * chunk);
+          std::fill(v.begin(), v.end(), 0.0);
+          fill(b, v);
+        }
+      },
+      [&](std::size_t c, std::size_t slot)
+      {
+        for (std::size_t b = c * chunk; b < std::min(nb, (c + 1) * chunk); ++b)
+          add(b, slot_values(slot, b - c * chunk));
+      });
 }
 
 } // namespace textile::assembly

@@ -39,10 +39,10 @@ public:
   /// zeroed buffer of block_size^2, then A[idx_b, idx_b] += values with
   /// idx_b = indices[b * block_size, (b + 1) * block_size) (local indices,
   /// negative: skipped). With num_threads > 1, fill runs on that many
-  /// threads (it must be thread-safe) over chunks of blocks, each chunk
-  /// then added by the calling thread, in block order: the matrix does not
-  /// depend on the number of threads. An exception from fill propagates
-  /// after A's value arrays are handed back.
+  /// threads (it must be thread-safe) and the calling thread adds the
+  /// blocks in block order while the others compute the next ones: the
+  /// matrix does not depend on the number of threads. An exception from
+  /// fill propagates after A's value arrays are handed back.
   void add_blocks(Mat A, std::span<const std::int32_t> indices, int block_size,
                   const std::function<void(std::size_t, std::span<double>)>& fill,
                   int num_threads = 1);
