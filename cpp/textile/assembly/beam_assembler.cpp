@@ -80,11 +80,15 @@ BeamAssembler::BeamAssembler(beam::ElementRule rule, std::vector<std::int32_t> c
     }
     catch (const std::runtime_error& error)
     {
-      throw std::runtime_error("element " + std::to_string(_number[e]) + " of fibre "
-                               + std::to_string(_group[e]) + ": " + error.what());
+      throw std::runtime_error(describe(e) + ": " + error.what());
     }
   }
   _ref_offset.push_back(_ref.size());
+}
+
+std::string BeamAssembler::describe(std::size_t e) const
+{
+  return "element " + std::to_string(_number[e]) + " of fibre " + std::to_string(_group[e]);
 }
 
 template <typename Kernel>
@@ -96,8 +100,7 @@ auto BeamAssembler::on_element(std::size_t e, Kernel&& kernel) const
   }
   catch (const GeometryError& error)
   {
-    throw GeometryError("element " + std::to_string(_number[e]) + " of fibre "
-                        + std::to_string(_group[e]) + ": " + error.what());
+    throw GeometryError(describe(e) + ": " + error.what());
   }
 }
 

@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace textile::assembly
@@ -35,13 +36,13 @@ public:
                 std::vector<std::int32_t> element_number = {});
 
   std::size_t num_elements() const { return _group.size(); }
+  int num_nodes_per_element() const { return _rule.num_nodes; }
 
   /// Threads the element loops of assemble_vector and assemble_matrix use
   /// (default 1; PETSc insertion stays on the calling thread). The matrix
   /// does not depend on it; the vector only to round-off (partial sums).
   int num_threads() const { return _num_threads; }
   void set_num_threads(int n);
-  int num_nodes_per_element() const { return _rule.num_nodes; }
 
   /// b += internal force (9 per local node); returns the stored energy of
   /// this rank's elements. A folded element (det F <= 0 at a quadrature
@@ -68,8 +69,10 @@ private:
   void current(std::size_t e, std::span<const double> u, std::span<double> xe) const;
   /// Reference data of element e's quadrature points.
   std::span<const beam::ReferencePoint> reference(std::size_t e) const;
+  /// "element <number> of fibre <group>", for error messages.
+  std::string describe(std::size_t e) const;
   /// kernel() for element e; a GeometryError it throws gets the element's
-  /// number and fibre prepended.
+  /// description prepended.
   template <typename Kernel>
   auto on_element(std::size_t e, Kernel&& kernel) const;
 
