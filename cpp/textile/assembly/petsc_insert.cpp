@@ -3,6 +3,7 @@
 #include "petsc_error.h"
 
 #include <algorithm>
+#include <cstring>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -227,12 +228,22 @@ void BlockInsertion::add_blocks(Mat A, std::span<const std::int32_t> indices, in
       return;
     }
     const std::int32_t* pos = _position.data() + b * bs * bs;
-    for (std::size_t k = 0; k < bs * bs; ++k)
+    PetscScalar* a = diag->data;
+    if (!_mpi)
     {
-      if (pos[k] >= 0)
-        diag->data[pos[k]] += values[k];
-      else if (pos[k] <= -2)
-        off->data[-2 - pos[k]] += values[k];
+      for (std::size_t k = 0; k < bs * bs; ++k)
+        if (pos[k] >= 0)
+          a[pos[k]] += values[k];
+    }
+    else
+    {
+      for (std::size_t k = 0; k < bs * bs; ++k)
+      {
+        if (pos[k] >= 0)
+          a[pos[k]] += values[k];
+        else if (pos[k] <= -2)
+          off->data[-2 - pos[k]] += values[k];
+      }
     }
     if (next_remote < _remote_blocks.size() and _remote_blocks[next_remote] == b)
     {
@@ -257,7 +268,7 @@ void BlockInsertion::add_blocks(Mat A, std::span<const std::int32_t> indices, in
         for (std::size_t b = c * chunk; b < std::min(nb, (c + 1) * chunk); ++b)
         {
           const auto v = slot_values(slot, b - c * chunk);
-          std::fill(v.begin(), v.end(), 0.0);
+          std::memset(v.data(), 0, v.size_bytes());
           fill(b, v);
         }
       },
