@@ -201,13 +201,14 @@ std::vector<SectionPoint>& section_points(std::size_t nq)
   return points;
 }
 
-/// Element unknown s = 3a + f (field f of node a) in terms of z: up to two
-/// (z index, shape coefficient) pairs.
+/// Element unknown s = 3a + f (field f of node a) in terms of z: two
+/// (z index, shape coefficient) pairs. x0 enters z through x0' only; its
+/// second pair has coefficient 0, so that every loop over pairs has two
+/// terms and no branch.
 struct ZTerms
 {
   std::array<int, 2> m;
   std::array<double, 2> c;
-  int count;
 };
 
 template <int N>
@@ -216,9 +217,9 @@ std::array<ZTerms, 3 * N> z_terms(const std::array<double, 3>& n, const std::arr
   std::array<ZTerms, 3 * N> t;
   for (int a = 0; a < N; ++a)
   {
-    t[3 * a] = {{0, 0}, {dn[a], 0.0}, 1};
-    t[3 * a + 1] = {{1, 3}, {n[a], dn[a]}, 2};
-    t[3 * a + 2] = {{2, 4}, {n[a], dn[a]}, 2};
+    t[3 * a] = {{0, 0}, {dn[a], 0.0}};
+    t[3 * a + 1] = {{1, 3}, {n[a], dn[a]}};
+    t[3 * a + 2] = {{2, 4}, {n[a], dn[a]}};
   }
   return t;
 }
@@ -362,8 +363,7 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
     const auto terms = z_terms<N>(n, dn);
     if (want_r)
       for (int s = 0; s < 3 * N; ++s)
-        for (int k = 0; k < terms[s].count; ++k)
-          rq.col(s) += terms[s].c[k] * rz.col(terms[s].m[k]);
+        rq.col(s) += terms[s].c[0] * rz.col(terms[s].m[0]) + terms[s].c[1] * rz.col(terms[s].m[1]);
     if (want_K)
     {
       if (cure) // the section average sees the 3D law
@@ -380,13 +380,16 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
           Kz.block<3, 3>(3 * m, 3 * l) = Kz.block<3, 3>(3 * l, 3 * m).transpose();
       // Ke += Nz^T Kz Nz, Nz the sparse map from element unknowns to z
       // (blocks on and above the diagonal; Ke is symmetric)
+      Eigen::Matrix<double, 3 * nz, ndof> T; // Kz Nz
+      for (int t = 0; t < 3 * N; ++t)
+        T.template middleCols<3>(3 * t)
+            = terms[t].c[0] * Kz.template middleCols<3>(3 * terms[t].m[0])
+              + terms[t].c[1] * Kz.template middleCols<3>(3 * terms[t].m[1]);
       for (int s = 0; s < 3 * N; ++s)
         for (int t = s; t < 3 * N; ++t)
-          for (int k = 0; k < terms[s].count; ++k)
-            for (int l = 0; l < terms[t].count; ++l)
-              Ke.template block<3, 3>(3 * s, 3 * t)
-                  += (terms[s].c[k] * terms[t].c[l])
-                     * Kz.template block<3, 3>(3 * terms[s].m[k], 3 * terms[t].m[l]);
+          Ke.template block<3, 3>(3 * s, 3 * t)
+              += terms[s].c[0] * T.template block<3, 3>(3 * terms[s].m[0], 3 * t)
+                 + terms[s].c[1] * T.template block<3, 3>(3 * terms[s].m[1], 3 * t);
     }
   }
 
