@@ -1,18 +1,15 @@
 // The element-assembly pipeline: items produced on threads, consumed in
 // order by the caller, never more than `slots` ahead.
 #include <textile/assembly/ordered_pipeline.h>
-#include <textile/assembly/parallel_for.h>
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <atomic>
 #include <numeric>
 #include <stdexcept>
 #include <vector>
 
 using textile::assembly::ordered_pipeline;
-using textile::assembly::parallel_for;
 
 TEST(OrderedPipeline, ConsumesEveryItemOnceInOrder)
 {
@@ -55,23 +52,4 @@ TEST(OrderedPipeline, RethrowsAProducersException)
                      },
                      [](std::size_t, std::size_t) {}),
                  std::runtime_error);
-}
-
-TEST(ParallelFor, CoversTheRangeOnceAndRethrows)
-{
-  std::vector<int> hits(101, 0);
-  parallel_for(hits.size(), 3,
-               [&](std::size_t a, std::size_t b, int)
-               {
-                 for (std::size_t i = a; i < b; ++i)
-                   ++hits[i];
-               });
-  EXPECT_EQ(std::count(hits.begin(), hits.end(), 1), 101);
-  EXPECT_THROW(parallel_for(10, 2,
-                            [](std::size_t a, std::size_t, int)
-                            {
-                              if (a > 0)
-                                throw std::runtime_error("second part");
-                            }),
-               std::runtime_error);
 }

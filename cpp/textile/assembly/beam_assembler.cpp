@@ -1,10 +1,10 @@
 #include "beam_assembler.h"
 #include "../geometry_error.h"
-#include "parallel_for.h"
+#include "ordered_pipeline.h"
 #include "petsc_insert.h"
 
+#include <algorithm>
 #include <array>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -116,42 +116,60 @@ void BeamAssembler::set_num_threads(int n)
   _num_threads = n;
 }
 
+int BeamAssembler::threads_for_elements() const
+{
+  // a thread pays off only with enough elements (starting one costs about
+  // as much as a few elements' residuals)
+  constexpr std::size_t min_elements_per_thread = 256;
+  return static_cast<int>(std::clamp<std::size_t>(_group.size() / min_elements_per_thread, 1,
+                                                  _num_threads));
+}
+
 double BeamAssembler::assemble_vector(std::span<const double> u, std::span<double> b) const
 {
   if (u.size() != _X.size() or b.size() != _X.size())
     throw std::invalid_argument("BeamAssembler::assemble_vector: wrong vector size");
-  const int nn = _rule.num_nodes, nd = 9 * nn;
-  // thread 0 adds into b, the others into their own copies (neighbouring
-  // elements share nodes), summed afterwards
-  const int nt = std::max<int>(1, std::min<std::size_t>(_num_threads, _group.size()));
-  std::vector<std::vector<double>> partial(nt - 1, std::vector<double>(b.size(), 0.0));
-  std::vector<double> energy(nt, 0.0);
-  parallel_for(_group.size(), nt,
-               [&](std::size_t e0, std::size_t e1, int t)
-               {
-                 std::span<double> out = t == 0 ? b : std::span<double>(partial[t - 1]);
-                 std::array<double, 27> xe, re;
-                 for (std::size_t e = e0; e < e1; ++e)
-                 {
-                   current(e, u, std::span(xe).first(nd));
-                   std::fill_n(re.begin(), nd, 0.0);
-                   energy[t] += on_element(e, [&] {
-                     return beam::element_residual_tangent(
-                         _rule, _materials[_group[e]], _sections[_group[e]], reference(e),
-                         std::span(xe).first(nd), std::span(re).first(nd), {});
-                   });
-                   for (int a = 0; a < nn; ++a)
-                   {
-                     const std::size_t node = _conn[e * nn + a];
-                     for (int k = 0; k < 9; ++k)
-                       out[9 * node + k] += re[9 * a + k];
-                   }
-                 }
-               });
-  for (const auto& p : partial)
-    for (std::size_t i = 0; i < b.size(); ++i)
-      b[i] += p[i];
-  return std::accumulate(energy.begin(), energy.end(), 0.0);
+  const std::size_t nn = _rule.num_nodes, nd = 9 * nn, ne = _group.size();
+  // chunks of element forces computed on the threads, added to b (and the
+  // energy summed) in element order by this thread: the result does not
+  // depend on the number of threads
+  const int nt = threads_for_elements();
+  const std::size_t chunk = nt > 1 ? 16 : 1, slots = nt > 1 ? 4 * nt : 1;
+  std::vector<double> re(slots * chunk * nd), energy(slots * chunk);
+  double total = 0;
+  ordered_pipeline(
+      (ne + chunk - 1) / chunk, nt, slots,
+      [&](std::size_t c, std::size_t slot)
+      {
+        std::array<double, 27> xe;
+        for (std::size_t e = c * chunk, i = slot * chunk; e < std::min(ne, (c + 1) * chunk);
+             ++e, ++i)
+        {
+          current(e, u, std::span(xe).first(nd));
+          const std::span<double> r = std::span(re).subspan(i * nd, nd);
+          std::fill(r.begin(), r.end(), 0.0);
+          energy[i] = on_element(e, [&] {
+            return beam::element_residual_tangent(_rule, _materials[_group[e]],
+                                                  _sections[_group[e]], reference(e),
+                                                  std::span(xe).first(nd), r, {});
+          });
+        }
+      },
+      [&](std::size_t c, std::size_t slot)
+      {
+        for (std::size_t e = c * chunk, i = slot * chunk; e < std::min(ne, (c + 1) * chunk);
+             ++e, ++i)
+        {
+          total += energy[i];
+          for (std::size_t a = 0; a < nn; ++a)
+          {
+            const std::size_t node = _conn[e * nn + a];
+            for (int k = 0; k < 9; ++k)
+              b[9 * node + k] += re[i * nd + 9 * a + k];
+          }
+        }
+      });
+  return total;
 }
 
 void BeamAssembler::assemble_matrix(Mat A, std::span<const double> u,
@@ -180,7 +198,7 @@ void BeamAssembler::assemble_matrix(Mat A, std::span<const double> u,
               du.empty() ? std::span<const double>() : std::span(dxe).first(nd));
         });
       },
-      _num_threads);
+      threads_for_elements());
 }
 
 std::vector<double> BeamAssembler::fields(std::span<const double> u) const

@@ -38,9 +38,10 @@ public:
   std::size_t num_elements() const { return _group.size(); }
   int num_nodes_per_element() const { return _rule.num_nodes; }
 
-  /// Threads the element loops of assemble_vector and assemble_matrix use
-  /// (default 1; PETSc insertion stays on the calling thread). The matrix
-  /// does not depend on it; the vector only to round-off (partial sums).
+  /// Threads the element loops of assemble_vector and assemble_matrix may
+  /// use (default 1; fewer when there are few elements). The calling thread
+  /// adds the element forces and blocks in element order: the results do
+  /// not depend on the number of threads.
   int num_threads() const { return _num_threads; }
   void set_num_threads(int n);
 
@@ -69,6 +70,8 @@ private:
   void current(std::size_t e, std::span<const double> u, std::span<double> xe) const;
   /// Reference data of element e's quadrature points.
   std::span<const beam::ReferencePoint> reference(std::size_t e) const;
+  /// Threads for an element loop: num_threads, fewer for few elements.
+  int threads_for_elements() const;
   /// "element <number> of fibre <group>", for error messages.
   std::string describe(std::size_t e) const;
   /// kernel() for element e; a GeometryError it throws gets the element's
