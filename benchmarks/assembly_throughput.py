@@ -15,6 +15,9 @@ with a small random deformation. Measures (best of --repeats):
     max_it = 1 from the deformed state, after a warm-up solve so that the
     symbolic factorization is already done,
 
+with the beam element loops on ``--threads`` threads (PETSc insertion and
+MUMPS as configured),
+
 and prints elements per second and the ratio Newton iteration / (LU + solve).
 A measurement script, not a test: it asserts nothing.
 
@@ -75,11 +78,17 @@ def main(argv=None):
     ap.add_argument("--fibres", type=int, default=50)
     ap.add_argument("--elements", type=int, default=64, help="quadratic elements per fibre")
     ap.add_argument("--repeats", type=int, default=7)
+    ap.add_argument("--threads", type=int, default=None,
+                    help="threads of the beam element loops (default: TEXTILE_NUM_THREADS, "
+                         "else the cores of this process)")
     args = ap.parse_args(argv)
     rep = args.repeats
 
     t0 = time.perf_counter()
     m = build(args.fibres, args.elements)
+    if args.threads is not None:
+        m.beam._assembler.num_threads = args.threads
+    threads = m.beam._assembler.num_threads
     t_build = time.perf_counter() - t0
     n_el = args.fibres * args.elements
     n_dofs = m.x.getSize()
@@ -165,7 +174,7 @@ def main(argv=None):
 
     print(f"bundle: {args.fibres} fibres x {args.elements} quadratic elements = {n_el} elements, "
           f"{n_dofs} unknowns, nnz(A) = {int(nnz)}; model build+setup {t_build:.2f} s; "
-          f"best of {rep}; {os.cpu_count()} cores, 1 MPI rank")
+          f"best of {rep}; {os.cpu_count()} cores, 1 MPI rank, {threads} element threads")
     print(f"{'operation':34s} {'best [ms]':>10s} {'median [ms]':>12s} {'elements/s':>12s}")
     for k, label in [("assemble_vector", "_cpp assemble_vector (C++ only)"),
                      ("residual", "model.residual (SNES callback)"),
@@ -197,7 +206,7 @@ def main(argv=None):
     with open(os.path.join(OUT, "assembly_throughput.json"), "w") as fh:
         json.dump(dict(date=time.strftime("%Y-%m-%d %H:%M:%S %Z"), fibres=args.fibres,
                        elements_per_fibre=args.elements, elements=n_el, unknowns=n_dofs,
-                       nnz=int(nnz), repeats=rep, cpus=os.cpu_count(),
+                       nnz=int(nnz), repeats=rep, cpus=os.cpu_count(), threads=threads,
                        best_seconds={k: v[0] for k, v in res.items()},
                        median_seconds={k: v[1] for k, v in res.items()},
                        newton_over_lu_solve=newton / lu), fh, indent=1)

@@ -23,7 +23,9 @@ class BeamElement:
         need 1 point (O(h^2)); 2 points lock severely.
     section_order:
         Polynomial degree integrated exactly over the round section (>= 2).
-        4 is exact for the straight beam's strain energy.
+        4 is exact for the straight beam's strain energy, force and tangent;
+        orders 4 and 5 use Radon's 7-point rule (exact to degree 5), the
+        others a polar product rule ((order // 2 + 1) x (order + 1) points).
     poisson_cure:
         Use the section-split law that removes Poisson locking (keep True;
         False only to show the locking).

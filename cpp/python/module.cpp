@@ -18,6 +18,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <optional>
 #include <span>
 
 namespace py = pybind11;
@@ -110,7 +111,8 @@ PYBIND11_MODULE(_cpp, m)
   m.def(
       "element_residual_tangent",
       [](const beam::ElementRule& rule, const beam::Material& mat,
-         const beam::SectionQuadrature& sec, const carray<double>& X, const carray<double>& x)
+         const beam::SectionQuadrature& sec, const carray<double>& X, const carray<double>& x,
+         const std::optional<carray<double>>& dx)
       {
         const std::size_t n = 9 * rule.num_nodes;
         carray<double> r(n), K({n, n});
@@ -118,24 +120,35 @@ PYBIND11_MODULE(_cpp, m)
         std::fill_n(K.mutable_data(), n * n, 0.0);
         const double e = beam::element_residual_tangent(
             rule, mat, sec, cspan(X), cspan(x), std::span<double>(r.mutable_data(), n),
-            std::span<double>(K.mutable_data(), n * n));
+            std::span<double>(K.mutable_data(), n * n),
+            dx ? cspan(*dx) : std::span<const double>());
         return py::make_tuple(e, r, K);
       },
       py::arg("rule"), py::arg("material"), py::arg("section"), py::arg("X"), py::arg("x"),
-      "Energy, internal force and tangent of one element (positions, not displacements).");
+      py::arg("dx") = py::none(),
+      "Energy, internal force and tangent of one element (positions, not displacements); "
+      "with dx (the last Newton update) the MIP Newton tangent.");
 
   py::class_<assembly::BeamAssembler>(m, "BeamAssembler")
       .def(py::init(
                [](const beam::ElementRule& rule, const carray<std::int32_t>& conn,
                   const carray<std::int32_t>& groups, std::vector<beam::Material> mats,
-                  std::vector<beam::SectionQuadrature> secs, const carray<double>& X)
+                  std::vector<beam::SectionQuadrature> secs, const carray<double>& X,
+                  const carray<std::int32_t>& numbers)
                {
                  return assembly::BeamAssembler(rule, to_vector(conn), to_vector(groups),
-                                                std::move(mats), std::move(secs), to_vector(X));
+                                                std::move(mats), std::move(secs), to_vector(X),
+                                                to_vector(numbers));
                }),
            py::arg("rule"), py::arg("connectivity"), py::arg("element_group"),
-           py::arg("materials"), py::arg("sections"), py::arg("X"))
+           py::arg("materials"), py::arg("sections"), py::arg("X"),
+           py::arg("element_number") = carray<std::int32_t>(0),
+           "element_number: each element's number within its fibre (error messages; "
+           "default: the local element index)")
       .def_property_readonly("num_elements", &assembly::BeamAssembler::num_elements)
+      .def_property("num_threads", &assembly::BeamAssembler::num_threads,
+                    &assembly::BeamAssembler::set_num_threads,
+                    "threads of the element loops (PETSc insertion stays serial)")
       .def(
           "assemble_vector",
           [](const assembly::BeamAssembler& self, const carray<double>& u, py::array_t<double>& b)
@@ -144,9 +157,11 @@ PYBIND11_MODULE(_cpp, m)
       .def(
           "assemble_matrix",
           [](const assembly::BeamAssembler& self, Mat A, const carray<double>& u,
-             const carray<std::int32_t>& dofs)
-          { self.assemble_matrix(A, cspan(u), cspan(dofs)); },
-          py::arg("A"), py::arg("u"), py::arg("dofs"))
+             const carray<std::int32_t>& dofs, const std::optional<carray<double>>& du)
+          { self.assemble_matrix(A, cspan(u), cspan(dofs), du ? cspan(*du) : std::span<const double>()); },
+          py::arg("A"), py::arg("u"), py::arg("dofs"), py::arg("du") = py::none(),
+          "A += tangent; with du (the last Newton update, 9 per local node) the MIP Newton "
+          "tangent")
       .def(
           "fields",
           [](const assembly::BeamAssembler& self, const carray<double>& u)

@@ -61,6 +61,27 @@ TEST(DiskQuadrature, ExactUpToOrder)
   EXPECT_NEAR(I, std::numbers::pi / 4, 1e-14);
 }
 
+TEST(DiskQuadrature, OrdersFourAndFiveUseRadonsSevenPoints)
+{
+  // the default section order: half the points of the polar rule (15 at
+  // order 4), exactness checked in ExactUpToOrder
+  for (int order : {4, 5})
+  {
+    const auto q = disk_quadrature(0.3, order);
+    ASSERT_EQ(q.size(), 7u);
+    EXPECT_EQ(q.xi1[0], 0.0); // the centre, weight A/4
+    EXPECT_NEAR(q.weights[0], std::numbers::pi * 0.09 / 4, 1e-16);
+    for (std::size_t i = 1; i < 7; ++i) // the hexagon at R sqrt(2/3)
+      EXPECT_NEAR(std::hypot(q.xi1[i], q.xi2[i]), 0.3 * std::sqrt(2.0 / 3.0), 1e-15);
+  }
+  // degree 6 is not exact (so ExactUpToOrder could fail for order 5 + 1)
+  const auto q = disk_quadrature(1.0, 4);
+  double s = 0;
+  for (std::size_t i = 0; i < q.size(); ++i)
+    s += q.weights[i] * std::pow(q.xi1[i], 6);
+  EXPECT_GT(std::abs(s - disk_monomial(6, 0, 1.0)), 1e-3);
+}
+
 TEST(DiskQuadrature, RejectsBadInput)
 {
   EXPECT_THROW(disk_quadrature(-1.0, 4), std::invalid_argument);

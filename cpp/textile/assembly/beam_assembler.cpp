@@ -1,16 +1,47 @@
 #include "beam_assembler.h"
+#include "../geometry_error.h"
+#include "ordered_pipeline.h"
 #include "petsc_insert.h"
 
+#include <algorithm>
+#include <array>
 #include <stdexcept>
+#include <string>
 
 namespace textile::assembly
 {
+template <typename T>
+void BeamAssembler::gather(std::size_t e, std::span<const T> values, std::span<T> out) const
+{
+  const int nn = _rule.num_nodes;
+  for (int a = 0; a < nn; ++a)
+  {
+    const std::size_t node = _conn[e * nn + a];
+    for (int k = 0; k < beam::dofs_per_node; ++k)
+      out[9 * a + k] = values[9 * node + k];
+  }
+}
+
+void BeamAssembler::current(std::size_t e, std::span<const double> u,
+                            std::span<double> xe) const
+{
+  const int nn = _rule.num_nodes;
+  for (int a = 0; a < nn; ++a)
+  {
+    const std::size_t node = _conn[e * nn + a];
+    for (int k = 0; k < beam::dofs_per_node; ++k)
+      xe[9 * a + k] = _X[9 * node + k] + u[9 * node + k];
+  }
+}
+
 BeamAssembler::BeamAssembler(beam::ElementRule rule, std::vector<std::int32_t> connectivity,
                              std::vector<std::int32_t> element_group,
                              std::vector<beam::Material> materials,
-                             std::vector<beam::SectionQuadrature> sections, std::vector<double> X)
+                             std::vector<beam::SectionQuadrature> sections, std::vector<double> X,
+                             std::vector<std::int32_t> element_number)
     : _rule(std::move(rule)), _conn(std::move(connectivity)), _group(std::move(element_group)),
-      _materials(std::move(materials)), _sections(std::move(sections)), _X(std::move(X))
+      _number(std::move(element_number)), _materials(std::move(materials)),
+      _sections(std::move(sections)), _X(std::move(X))
 {
   const std::size_t nn = _rule.num_nodes;
   if (nn != 2 and nn != 3)
@@ -30,68 +61,144 @@ BeamAssembler::BeamAssembler(beam::ElementRule rule, std::vector<std::int32_t> c
       throw std::invalid_argument("BeamAssembler: node index out of range");
   for (auto& m : _materials)
     beam::validate(m);
-}
+  if (_number.empty())
+    for (std::size_t e = 0; e < _group.size(); ++e)
+      _number.push_back(static_cast<std::int32_t>(e));
+  if (_number.size() != _group.size())
+    throw std::invalid_argument("BeamAssembler: one element number per element expected");
 
-void BeamAssembler::gather(std::size_t e, std::span<const double> u, std::span<double> Xe,
-                           std::span<double> xe) const
-{
-  const int nn = _rule.num_nodes;
-  for (int a = 0; a < nn; ++a)
+  std::vector<double> Xe(beam::dofs_per_node * nn);
+  for (std::size_t e = 0; e < _group.size(); ++e)
   {
-    const std::size_t node = _conn[e * nn + a];
-    for (int k = 0; k < beam::dofs_per_node; ++k)
+    _ref_offset.push_back(_ref.size());
+    _ref.resize(_ref.size() + beam::num_points(_rule, _sections[_group[e]]));
+    gather<double>(e, _X, Xe);
+    try
     {
-      Xe[9 * a + k] = _X[9 * node + k];
-      xe[9 * a + k] = _X[9 * node + k] + u[9 * node + k];
+      beam::reference_points(_rule, _sections[_group[e]], Xe, {_ref.data() + _ref_offset[e],
+                                                                 _ref.size() - _ref_offset[e]});
+    }
+    catch (const std::runtime_error& error)
+    {
+      throw std::runtime_error(describe(e) + ": " + error.what());
     }
   }
+  _ref_offset.push_back(_ref.size());
+}
+
+std::string BeamAssembler::describe(std::size_t e) const
+{
+  return "element " + std::to_string(_number[e]) + " of fibre " + std::to_string(_group[e]);
+}
+
+template <typename Kernel>
+auto BeamAssembler::on_element(std::size_t e, Kernel&& kernel) const
+{
+  try
+  {
+    return kernel();
+  }
+  catch (const GeometryError& error)
+  {
+    throw GeometryError(describe(e) + ": " + error.what());
+  }
+}
+
+std::span<const beam::ReferencePoint> BeamAssembler::reference(std::size_t e) const
+{
+  return {_ref.data() + _ref_offset[e], _ref_offset[e + 1] - _ref_offset[e]};
+}
+
+void BeamAssembler::set_num_threads(int n)
+{
+  if (n < 1)
+    throw std::invalid_argument("BeamAssembler: num_threads must be >= 1");
+  _num_threads = n;
+}
+
+int BeamAssembler::threads_for_elements() const
+{
+  // a thread pays off only with enough elements (starting one costs about
+  // as much as a few elements' residuals)
+  constexpr std::size_t min_elements_per_thread = 256;
+  return static_cast<int>(std::clamp<std::size_t>(_group.size() / min_elements_per_thread, 1,
+                                                  _num_threads));
 }
 
 double BeamAssembler::assemble_vector(std::span<const double> u, std::span<double> b) const
 {
   if (u.size() != _X.size() or b.size() != _X.size())
     throw std::invalid_argument("BeamAssembler::assemble_vector: wrong vector size");
-  const int nn = _rule.num_nodes, nd = 9 * nn;
-  std::vector<double> Xe(nd), xe(nd), re(nd);
-  double energy = 0;
-  for (std::size_t e = 0; e < _group.size(); ++e)
-  {
-    gather(e, u, Xe, xe);
-    std::fill(re.begin(), re.end(), 0.0);
-    energy += beam::element_residual_tangent(_rule, _materials[_group[e]], _sections[_group[e]],
-                                             Xe, xe, re, {});
-    for (int a = 0; a < nn; ++a)
-    {
-      const std::size_t node = _conn[e * nn + a];
-      for (int k = 0; k < 9; ++k)
-        b[9 * node + k] += re[9 * a + k];
-    }
-  }
-  return energy;
+  const std::size_t nn = _rule.num_nodes, nd = 9 * nn, ne = _group.size();
+  // chunks of element forces computed on the threads, added to b (and the
+  // energy summed) in element order by this thread: the result does not
+  // depend on the number of threads
+  const int nt = threads_for_elements();
+  const std::size_t chunk = nt > 1 ? 16 : 1, slots = nt > 1 ? 4 * nt : 1;
+  std::vector<double> re(slots * chunk * nd), energy(slots * chunk);
+  double total = 0;
+  ordered_pipeline(
+      (ne + chunk - 1) / chunk, nt, slots,
+      [&](std::size_t c, std::size_t slot)
+      {
+        std::array<double, 27> xe;
+        for (std::size_t e = c * chunk, i = slot * chunk; e < std::min(ne, (c + 1) * chunk);
+             ++e, ++i)
+        {
+          current(e, u, std::span(xe).first(nd));
+          const std::span<double> r = std::span(re).subspan(i * nd, nd);
+          std::fill(r.begin(), r.end(), 0.0);
+          energy[i] = on_element(e, [&] {
+            return beam::element_residual_tangent(_rule, _materials[_group[e]],
+                                                  _sections[_group[e]], reference(e),
+                                                  std::span(xe).first(nd), r, {});
+          });
+        }
+      },
+      [&](std::size_t c, std::size_t slot)
+      {
+        for (std::size_t e = c * chunk, i = slot * chunk; e < std::min(ne, (c + 1) * chunk);
+             ++e, ++i)
+        {
+          total += energy[i];
+          for (std::size_t a = 0; a < nn; ++a)
+          {
+            const std::size_t node = _conn[e * nn + a];
+            for (int k = 0; k < 9; ++k)
+              b[9 * node + k] += re[i * nd + 9 * a + k];
+          }
+        }
+      });
+  return total;
 }
 
 void BeamAssembler::assemble_matrix(Mat A, std::span<const double> u,
-                                    std::span<const std::int32_t> dofs) const
+                                    std::span<const std::int32_t> dofs,
+                                    std::span<const double> du) const
 {
-  if (u.size() != _X.size() or dofs.size() != _X.size())
+  if (u.size() != _X.size() or dofs.size() != _X.size()
+      or (!du.empty() and du.size() != _X.size()))
     throw std::invalid_argument("BeamAssembler::assemble_matrix: wrong array size");
   const int nn = _rule.num_nodes, nd = 9 * nn;
-  std::vector<double> Xe(nd), xe(nd), Ke(nd * nd);
-  std::vector<std::int32_t> idx(nd);
+  std::vector<std::int32_t> idx(nd * _group.size());
   for (std::size_t e = 0; e < _group.size(); ++e)
-  {
-    gather(e, u, Xe, xe);
-    std::fill(Ke.begin(), Ke.end(), 0.0);
-    beam::element_residual_tangent(_rule, _materials[_group[e]], _sections[_group[e]], Xe, xe, {},
-                                   Ke);
-    for (int a = 0; a < nn; ++a)
-    {
-      const std::size_t node = _conn[e * nn + a];
-      for (int k = 0; k < 9; ++k)
-        idx[9 * a + k] = dofs[9 * node + k];
-    }
-    add_block(A, idx, idx, Ke);
-  }
+    gather<std::int32_t>(e, dofs, std::span(idx).subspan(e * nd, nd));
+  _insertion.add_blocks(
+      A, idx, nd,
+      [&](std::size_t e, std::span<double> Ke)
+      {
+        std::array<double, 27> xe, dxe;
+        current(e, u, std::span(xe).first(nd));
+        if (!du.empty())
+          gather<double>(e, du, std::span(dxe).first(nd));
+        on_element(e, [&] {
+          return beam::element_residual_tangent(
+              _rule, _materials[_group[e]], _sections[_group[e]], reference(e),
+              std::span(xe).first(nd), {}, Ke,
+              du.empty() ? std::span<const double>() : std::span(dxe).first(nd));
+        });
+      },
+      threads_for_elements());
 }
 
 std::vector<double> BeamAssembler::fields(std::span<const double> u) const
@@ -99,12 +206,14 @@ std::vector<double> BeamAssembler::fields(std::span<const double> u) const
   if (u.size() != _X.size())
     throw std::invalid_argument("BeamAssembler::fields: wrong vector size");
   const int nd = 9 * _rule.num_nodes;
-  std::vector<double> Xe(nd), xe(nd), out(12 * _group.size());
+  std::vector<double> xe(nd), out(12 * _group.size());
   for (std::size_t e = 0; e < _group.size(); ++e)
   {
-    gather(e, u, Xe, xe);
-    const beam::ElementFields f
-        = beam::element_fields(_rule, _materials[_group[e]], _sections[_group[e]], Xe, xe);
+    current(e, u, xe);
+    const beam::ElementFields f = on_element(e, [&] {
+      return beam::element_fields(_rule, _materials[_group[e]], _sections[_group[e]],
+                                  reference(e), xe);
+    });
     for (int v = 0; v < 6; ++v)
     {
       out[12 * e + v] = f.strain(v);

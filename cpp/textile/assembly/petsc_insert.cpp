@@ -1,6 +1,10 @@
 #include "petsc_insert.h"
+#include "ordered_pipeline.h"
 #include "petsc_error.h"
 
+#include <algorithm>
+#include <cstring>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -29,4 +33,250 @@ void add_diagonal(Mat A, std::span<const std::int32_t> rows, double value)
     check(MatSetValuesLocal(A, 1, &i, 1, &i, &value, ADD_VALUES), "MatSetValuesLocal");
   }
 }
+namespace
+{
+/// CSR structure of a sequential AIJ matrix (row starts, column indices).
+struct Csr
+{
+  PetscInt n = 0;
+  const PetscInt* ia = nullptr;
+  const PetscInt* ja = nullptr;
+
+  /// Position of column col in row row, or -1.
+  std::int32_t find(PetscInt row, PetscInt col) const
+  {
+    const PetscInt* begin = ja + ia[row];
+    const PetscInt* end = ja + ia[row + 1];
+    const PetscInt* it = std::lower_bound(begin, end, col);
+    return (it != end and *it == col) ? static_cast<std::int32_t>(it - ja) : -1;
+  }
+};
+
+/// Borrowed CSR arrays of A, handed back on destruction.
+class RowIJ
+{
+public:
+  explicit RowIJ(Mat A) : _A(A)
+  {
+    PetscBool done = PETSC_FALSE;
+    check(MatGetRowIJ(A, 0, PETSC_FALSE, PETSC_FALSE, &csr.n, &csr.ia, &csr.ja, &done),
+          "MatGetRowIJ");
+    if (!done)
+      throw std::runtime_error("MatGetRowIJ: no CSR structure");
+  }
+  ~RowIJ()
+  {
+    PetscBool done;
+    MatRestoreRowIJ(_A, 0, PETSC_FALSE, PETSC_FALSE, &csr.n, &csr.ia, &csr.ja, &done);
+  }
+  RowIJ(const RowIJ&) = delete;
+  RowIJ& operator=(const RowIJ&) = delete;
+  Csr csr;
+
+private:
+  Mat _A;
+};
+
+/// Borrowed value array of a sequential AIJ matrix, handed back on destruction.
+class Values
+{
+public:
+  explicit Values(Mat A) : _A(A) { check(MatSeqAIJGetArray(A, &data), "MatSeqAIJGetArray"); }
+  ~Values() { MatSeqAIJRestoreArray(_A, &data); }
+  Values(const Values&) = delete;
+  Values& operator=(const Values&) = delete;
+  PetscScalar* data = nullptr;
+
+private:
+  Mat _A;
+};
+
+bool has_type(Mat A, const char* type)
+{
+  PetscBool same = PETSC_FALSE;
+  check(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(A), type, &same),
+        "PetscObjectTypeCompare");
+  return same;
+}
+} // namespace
+
+bool BlockInsertion::matches(Mat A, std::span<const std::int32_t> indices, int block_size) const
+{
+  PetscObjectId id;
+  check(PetscObjectGetId(reinterpret_cast<PetscObject>(A), &id), "PetscObjectGetId");
+  PetscObjectState state;
+  check(MatGetNonzeroState(A, &state), "MatGetNonzeroState");
+  return id == _id and state == _nonzero_state and block_size == _block_size
+         and std::equal(indices.begin(), indices.end(), _indices.begin(), _indices.end());
+}
+
+void BlockInsertion::find_positions(Mat A, std::span<const std::int32_t> indices,
+                                    int block_size)
+{
+  check(PetscObjectGetId(reinterpret_cast<PetscObject>(A), &_id), "PetscObjectGetId");
+  check(MatGetNonzeroState(A, &_nonzero_state), "MatGetNonzeroState");
+  _block_size = block_size;
+  _indices.assign(indices.begin(), indices.end());
+  _position.clear();
+  _remote_blocks.clear();
+  _remote_rows.clear();
+  _direct = false;
+  PetscBool assembled = PETSC_FALSE;
+  check(MatAssembled(A, &assembled), "MatAssembled");
+  _mpi = has_type(A, MATMPIAIJ);
+  if (!assembled or !(_mpi or has_type(A, MATSEQAIJ)))
+    return; // no final pattern yet, or not AIJ: add_block
+
+  // global numbers of the local indices (negative stay negative)
+  ISLocalToGlobalMapping rmap, cmap;
+  check(MatGetLocalToGlobalMapping(A, &rmap, &cmap), "MatGetLocalToGlobalMapping");
+  std::vector<PetscInt> rows(indices.size()), cols(indices.size());
+  check(ISLocalToGlobalMappingApply(rmap, indices.size(), indices.data(), rows.data()),
+        "ISLocalToGlobalMappingApply");
+  check(ISLocalToGlobalMappingApply(cmap, indices.size(), indices.data(), cols.data()),
+        "ISLocalToGlobalMappingApply");
+  PetscInt rstart, rend, cstart, cend;
+  check(MatGetOwnershipRange(A, &rstart, &rend), "MatGetOwnershipRange");
+  check(MatGetOwnershipRangeColumn(A, &cstart, &cend), "MatGetOwnershipRangeColumn");
+
+  Mat Ad = A, Ao = nullptr;
+  const PetscInt* garray = nullptr; // global column of each off-diagonal column
+  if (_mpi)
+    check(MatMPIAIJGetSeqAIJ(A, &Ad, &Ao, &garray), "MatMPIAIJGetSeqAIJ");
+  RowIJ diag(Ad);
+  std::unique_ptr<RowIJ> off;
+  PetscInt num_off = 0;
+  if (_mpi)
+  {
+    off = std::make_unique<RowIJ>(Ao);
+    PetscInt m;
+    check(MatGetSize(Ao, &m, &num_off), "MatGetSize");
+  }
+
+  const std::size_t bs = block_size, nb = indices.size() / bs;
+  _position.assign(nb * bs * bs, -1);
+  for (std::size_t b = 0; b < nb; ++b)
+  {
+    bool remote = false;
+    for (std::size_t i = 0; i < bs; ++i)
+    {
+      const PetscInt row = rows[b * bs + i];
+      if (indices[b * bs + i] < 0)
+        continue;
+      if (row < rstart or row >= rend)
+      {
+        remote = true;
+        continue;
+      }
+      for (std::size_t j = 0; j < bs; ++j)
+      {
+        const PetscInt col = cols[b * bs + j];
+        if (indices[b * bs + j] < 0)
+          continue;
+        std::int32_t pos;
+        if (!_mpi or (col >= cstart and col < cend))
+          pos = diag.csr.find(row - rstart, _mpi ? col - cstart : col);
+        else
+        {
+          const PetscInt* it = std::lower_bound(garray, garray + num_off, col);
+          const std::int32_t p = (it != garray + num_off and *it == col)
+                                     ? off->csr.find(row - rstart, it - garray)
+                                     : -1;
+          pos = p < 0 ? -1 : -2 - p;
+        }
+        if (pos == -1)
+          return; // outside the pattern: add_block (and its PETSc error)
+        _position[(b * bs + i) * bs + j] = pos;
+      }
+    }
+    if (remote)
+    {
+      _remote_blocks.push_back(b);
+      for (std::size_t i = 0; i < bs; ++i)
+      {
+        const PetscInt row = rows[b * bs + i];
+        const bool mine = row >= rstart and row < rend;
+        _remote_rows.push_back(mine ? -1 : indices[b * bs + i]);
+      }
+    }
+  }
+  _direct = true;
+}
+
+void BlockInsertion::add_blocks(Mat A, std::span<const std::int32_t> indices, int block_size,
+                                const std::function<void(std::size_t, std::span<double>)>& fill,
+                                int num_threads)
+{
+  if (block_size <= 0 or indices.size() % block_size != 0)
+    throw std::invalid_argument("BlockInsertion: indices must hold whole blocks");
+  if (!matches(A, indices, block_size))
+    find_positions(A, indices, block_size);
+  const std::size_t bs = block_size, nb = indices.size() / bs;
+
+  Mat Ad = A, Ao = nullptr;
+  if (_direct and _mpi)
+    check(MatMPIAIJGetSeqAIJ(A, &Ad, &Ao, nullptr), "MatMPIAIJGetSeqAIJ");
+  std::unique_ptr<Values> diag = _direct ? std::make_unique<Values>(Ad) : nullptr;
+  std::unique_ptr<Values> off = (_direct and _mpi) ? std::make_unique<Values>(Ao) : nullptr;
+  std::size_t next_remote = 0;
+  auto add = [&](std::size_t b, std::span<const double> values)
+  {
+    const auto idx = indices.subspan(b * bs, bs);
+    if (!_direct)
+    {
+      add_block(A, idx, idx, values);
+      return;
+    }
+    const std::int32_t* pos = _position.data() + b * bs * bs;
+    PetscScalar* a = diag->data;
+    if (!_mpi)
+    {
+      for (std::size_t k = 0; k < bs * bs; ++k)
+        if (pos[k] >= 0)
+          a[pos[k]] += values[k];
+    }
+    else
+    {
+      for (std::size_t k = 0; k < bs * bs; ++k)
+      {
+        if (pos[k] >= 0)
+          a[pos[k]] += values[k];
+        else if (pos[k] <= -2)
+          off->data[-2 - pos[k]] += values[k];
+      }
+    }
+    if (next_remote < _remote_blocks.size() and _remote_blocks[next_remote] == b)
+    {
+      // rows of another rank: PETSc's stash (skips the rows marked -1)
+      add_block(A, std::span(_remote_rows).subspan(next_remote * bs, bs), idx, values);
+      ++next_remote;
+    }
+  };
+
+  // chunks of blocks computed on the threads, added in order by this one
+  // while the others compute the next chunks
+  const std::size_t chunk = num_threads > 1 ? 16 : 1;
+  const std::size_t num_chunks = (nb + chunk - 1) / chunk;
+  const std::size_t slots = num_threads > 1 ? 4 * num_threads : 1;
+  std::vector<double> values(slots * chunk * bs * bs);
+  auto slot_values = [&](std::size_t slot, std::size_t i)
+  { return std::span(values).subspan((slot * chunk + i) * bs * bs, bs * bs); };
+  ordered_pipeline(
+      num_chunks, num_threads, slots,
+      [&](std::size_t c, std::size_t slot)
+      {
+        for (std::size_t b = c * chunk; b < std::min(nb, (c + 1) * chunk); ++b)
+        {
+          const auto v = slot_values(slot, b - c * chunk);
+          std::memset(v.data(), 0, v.size_bytes());
+          fill(b, v);
+        }
+      },
+      [&](std::size_t c, std::size_t slot)
+      {
+        for (std::size_t b = c * chunk; b < std::min(nb, (c + 1) * chunk); ++b)
+          add(b, slot_values(slot, b - c * chunk));
+      });
+}
+
 } // namespace textile::assembly

@@ -24,29 +24,27 @@
 // stays exact and symmetric. Chosen over enhanced assumed strains because
 // it needs no extra element unknowns or static condensation.
 //
+// Evaluation: at an axial point the deformation of every section point
+// depends on the 15 values z = [x0', g1, g2, g1', g2'] only
+// (F Q = [g1, g2, x0' + xi1 g1' + xi2 g2'] B, reference_geometry.h). Force
+// and tangent are integrated over the section with respect to z (15
+// unknowns instead of 9 per node) and mapped to the nodes once per axial
+// point through the shape functions.
+//
 // Units: any consistent set (e.g. N, m, Pa). Internal force r = dPi/dx,
 // the derivative of the stored energy with respect to the nodal unknowns
 // (positive in the direction the energy grows); tangent K = dr/dx.
 #pragma once
 
+#include "element_rule.h"
 #include "material.h"
 #include "quadrature.h"
+#include "reference_geometry.h"
 
 #include <span>
 
 namespace textile::beam
 {
-
-/// Unknowns per node: centroid x0, section vectors g1, g2.
-constexpr int dofs_per_node = 9;
-
-/// Integration choices for one element type.
-struct ElementRule
-{
-  int num_nodes = 3;          ///< 2 (linear) or 3 (quadratic)
-  GaussLegendre axial;        ///< points along the element, on [-1, 1]
-  bool poisson_cure = true;   ///< section split law (false: plain 3D SVK)
-};
 
 /// Stored energy, internal force and tangent of one element.
 ///
@@ -57,11 +55,35 @@ struct ElementRule
 /// @param x     Current nodal unknowns, same layout.
 /// @param r     If not empty: += internal force (9*num_nodes).
 /// @param K     If not empty: += tangent, row-major (9n x 9n).
+/// @param dx    Empty: K is the exact tangent dr/dx. Else the last Newton
+///              update of the nodal unknowns (same layout), and K is the
+///              MIP Newton tangent (Magisano, Leonetti & Garcea, IJNME
+///              2017): Newton on the mixed problem (x, S), whose stress
+///              at each quadrature point is the linear extrapolation
+///              S = C (E(x - dx) + dE(x - dx)[dx]). E is quadratic in x,
+///              so that is the stress of
+///                  E_mip = E(x) - 1/2 h(dx)^T h(dx)   (h_j = F e_j),
+///              which the geometric stiffness uses instead of the stress
+///              of E(x); the material stiffness is the exact one and r,
+///              the energy are unchanged. It keeps a large-rotation update
+///              from feeding the spurious quadratic strain of the update
+///              into the next geometric stiffness. dx = 0 gives the exact
+///              tangent.
 /// @return The element's stored energy.
+/// @throws GeometryError if det F <= 0 (folded element) at a point.
 double element_residual_tangent(const ElementRule& rule, const Material& mat,
                                 const SectionQuadrature& section,
                                 std::span<const double> X, std::span<const double> x,
-                                std::span<double> r, std::span<double> K);
+                                std::span<double> r, std::span<double> K,
+                                std::span<const double> dx = {});
+
+/// The same with the element's reference data already evaluated
+/// (reference_points(rule, section, X, ref)): what an assembler calls.
+double element_residual_tangent(const ElementRule& rule, const Material& mat,
+                                const SectionQuadrature& section,
+                                std::span<const ReferencePoint> ref, std::span<const double> x,
+                                std::span<double> r, std::span<double> K,
+                                std::span<const double> dx = {});
 
 /// Section-averaged Green-Lagrange strain and second Piola-Kirchhoff stress
 /// (Voigt, local frame), averaged over the element's axial points.
@@ -74,5 +96,9 @@ struct ElementFields
 ElementFields element_fields(const ElementRule& rule, const Material& mat,
                              const SectionQuadrature& section,
                              std::span<const double> X, std::span<const double> x);
+
+ElementFields element_fields(const ElementRule& rule, const Material& mat,
+                             const SectionQuadrature& section,
+                             std::span<const ReferencePoint> ref, std::span<const double> x);
 
 } // namespace textile::beam

@@ -28,10 +28,16 @@ struct SectionQuadrature
   std::size_t size() const { return weights.size(); }
 };
 
-/// Polar product rule exact for polynomials in (xi1, xi2) of total degree
-/// <= order: floor(order/2)+1 Gauss points in r (with the weight r dr) times
-/// order+1 equally spaced angles. order >= 2 so that both bending
-/// directions are integrated exactly (I = pi R^4 / 4).
+/// A rule exact for polynomials in (xi1, xi2) of total degree <= order
+/// (order >= 2 so that both bending directions are integrated exactly,
+/// I = pi R^4 / 4):
+///  - orders 4 and 5: Radon's 7-point rule (Stroud S2 5-1), exact to
+///    degree 5: the centre with weight A/4 and a regular hexagon at
+///    r = R sqrt(2/3) with weights A/8. A straight beam's energy, force and
+///    tangent are polynomials of degree 4 over the section, so it gives them
+///    exactly with half the points of the polar rule (15);
+///  - other orders: polar product rule, floor(order/2)+1 Gauss points in r
+///    (with the weight r dr) times order+1 equally spaced angles.
 SectionQuadrature disk_quadrature(double radius, int order);
 
 } // namespace textile::beam
