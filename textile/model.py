@@ -398,18 +398,20 @@ class Model:
         try:
             for e in self.effects:
                 e.residual(st, local)
-            applied = self._applied_forces(st)
         except _cpp.GeometryError as exc:
             error = exc
-        # collective: every rank must take the same branch
-        if self.comm.allreduce(error is not None, op=MPI.LOR):
-            self.domain_error = error or _cpp.GeometryError("domain error on another rank")
-            b.set(np.inf)
-            self.residual_norms = np.full(len(self.residual_groups.names), np.inf)
+        if self._domain_error(error, b):
             return
+        applied = self._applied_forces(st)
         self.layout.scatter(b, [local[f.name] for f in self.layout.fields])
         b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
-        added = [e.residual_global(st, b) for e in self.effects]
+        added = []
+        try:
+            added = [e.residual_global(st, b) for e in self.effects]
+        except _cpp.GeometryError as exc:
+            error = exc
+        if self._domain_error(error, b):
+            return
         if self.comm.allreduce(any(added), op=MPI.LOR):
             b.assemble()
         idx, vals = self._owned_constrained(self.load_factor)
@@ -427,6 +429,16 @@ class Model:
         # the force scale of each group: applied loads and support reactions
         self.force_reference = np.hypot(applied, self.residual_groups.reaction_norms(
             self._reaction_values))
+
+    def _domain_error(self, error, b: PETSc.Vec) -> bool:
+        """Collective: did any rank meet a domain error? Then record it and
+        make the residual infinite (every rank takes the same branch)."""
+        if not self.comm.allreduce(error is not None, op=MPI.LOR):
+            return False
+        self.domain_error = error or _cpp.GeometryError("domain error on another rank")
+        b.set(np.inf)
+        self.residual_norms = np.full(len(self.residual_groups.names), np.inf)
+        return True
 
     def _applied_forces(self, st: State) -> np.ndarray:
         """Norm per residual group of the external generalized forces the
