@@ -1,20 +1,31 @@
-"""Newton iterations per load step, and what they cost: Newton variants side by side.
+"""Newton iterations per load step, and what they cost, for every Newton variant.
 
-Cases (each run with every Newton variant of ``SolverOptions.newton``):
+Cases:
 
-- **roll-up**: a cantilever (L/R = 1000, 32 quadratic elements) rolled into a
-  full ring by an end moment in 16 load steps of pi/8;
+- **roll-up**: a cantilever (L/R = 1000, E = 1 GPa, nu = 0.3) rolled into a
+  ring by an end moment in 16 load steps of pi/8 (16, 32, 64 quadratic
+  elements; tests/beam/test_rollup.py, demos/demo_fibre_rollup.py); the
+  answer is the tip's distance to the clamp over L (0 exactly);
 - **buckled column**: a clamped-free column under 1.2 P_cr with a 1e-4 P_cr
-  lateral force, load steps of 0.01 (the demo's set-up), post-buckling;
-- **bundle**: the 61-fibre compressed bundle of ``contact_costs.py``
-  (contact and friction), when that script is importable.
+  lateral force, steps of 0.01 and 0.005 (demos/demo_buckled_column.py);
+  the answer is the tip rotation in degrees (67.8 on the stable branch);
+- **bundle**: the 61-fibre compressed bundle of ``contact_costs.py`` (contact,
+  friction 0.2, zone penalties adapted); the answer is the largest
+  displacement.
 
-For each: Newton iterations per step (accepted steps), all iterations and
-factorizations counted (failed attempts included, from the solver's
-counters), Newton solves, wall time, and the answer (so that variants can be
-compared: they must agree to the solver tolerance).
+- **squeezed bar**: a bar held straight (4 elements), its end pushed to
+  stretch 0.724 in steps of 0.03 (displacement-driven, below the SVK limit
+  point at 0.577); the answer is the spread of the element stretches (0 on
+  the uniform, stable state; a localized state is unstable).
 
-    .venv/bin/python benchmarks/newton_iterations.py [--quick]
+Variants: ``newton`` "standard" or "mip" (SolverOptions.newton) times
+``predictor`` "auto", "secant" or "none". For each: steps, Newton iterations per
+step (mean, max), all Newton iterations and factorizations counted by the
+solver (failed attempts included), Newton solves, failed attempts, wall
+time, the answer. ``--history`` prints the residual history of one roll-up
+step per variant.
+
+    .venv/bin/python benchmarks/newton_iterations.py [--quick] [--history]
 
 Writes benchmarks/output/newton_iterations.json. A measurement, not a test.
 """
@@ -34,15 +45,19 @@ from textile import runtime
 
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "output")
 E, NU = 1.0e9, 0.3
-VARIANTS = ("standard", "mip")
+VARIANTS = [(n, p) for n in ("standard", "mip") for p in ("auto", "secant", "none")]
 
 
 def run(model, options, answer) -> dict:
+    import warnings
+
     solver = textile.Solver(model, dict(verbose=False, **options))
     t0 = time.perf_counter()
     error = ""
     try:
-        solver.solve()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # counted below instead
+            solver.solve()
     except textile.ConvergenceError as e:
         error = str(e)
     wall = time.perf_counter() - t0
@@ -53,10 +68,13 @@ def run(model, options, answer) -> dict:
                 max_per_step=max(its) if its else None,
                 newton_iterations=c["newton_iterations"], newton_solves=c["newton_solves"],
                 factorizations=c["factorizations"], failed_attempts=c["failed_attempts"],
-                wall_seconds=wall, answer=answer(), error=error)
+                wall_seconds=wall, answer=answer(), error=error,
+                unstable_steps=sum(bool(h.stability.get("negative_eigenvalues"))
+                                   for h in solver.history),
+                histories=[h.residual_norms for h in solver.history])
 
 
-def rollup(newton: str, elements=32) -> dict:
+def rollup(newton, predictor, elements=32) -> dict:
     R, L = 1e-3, 1.0
     EI = E * np.pi * R ** 4 / 4
     fib = textile.straight_fibre([0, 0, 0], [L, 0, 0], R, textile.Material(E, NU),
@@ -64,12 +82,11 @@ def rollup(newton: str, elements=32) -> dict:
     model = textile.Model(fib, comm=MPI.COMM_SELF)
     model.clamp(fib, 0)
     model.add_end_moment(fib, -1, [0, 0, 2 * np.pi * EI / L])
-    opts = dict(initial_step=1 / 16, max_step=1 / 16, newton=newton)
-    # the ring closes: the tip is back at the clamp (REFERENCES.md 2)
+    opts = dict(initial_step=1 / 16, max_step=1 / 16, newton=newton, predictor=predictor)
     return run(model, opts, lambda: float(np.linalg.norm(model.centreline(fib)[-1]) / L))
 
 
-def buckled_column(newton: str, elements=16) -> dict:
+def buckled_column(newton, predictor, step=0.01, elements=16) -> dict:
     R, L = 1e-3, 0.5
     EI = E * np.pi * R ** 4 / 4
     P = np.pi ** 2 * EI / (4 * L ** 2)
@@ -78,45 +95,82 @@ def buckled_column(newton: str, elements=16) -> dict:
     model = textile.Model(fib, comm=MPI.COMM_SELF)
     model.clamp(fib, 0)
     model.add_force(fib, -1, [-1.2 * P, 0, 1e-4 * 1.2 * P])
-    opts = dict(initial_step=0.01, max_step=0.01, newton=newton)
-    # lateral tip deflection w / L at 1.2 P_cr
-    return run(model, opts, lambda: float(model.centreline(fib)[-1, 2] / L))
+    opts = dict(initial_step=step, max_step=step, newton=newton, predictor=predictor)
+
+    def tip_rotation():
+        x = model.centreline(fib)
+        t = x[-1] - x[-2]
+        return float(np.degrees(np.arctan2(t[2], t[0])))
+
+    return run(model, opts, tip_rotation)
 
 
-def bundle(newton: str, quick: bool) -> dict | None:
+def squeezed_bar(newton, predictor) -> dict:
+    R, L = 1e-3, 0.05
+    fib = textile.straight_fibre([0, 0, 0], [L, 0, 0], R, textile.Material(E, NU),
+                                 num_elements=4, section_vector=[0, 1, 0])
+    model = textile.Model(fib, comm=MPI.COMM_SELF)
+    model.fix(fib, 0, ["position", "g1x", "g1z", "g2x", "g2y"])
+    for i in range(1, fib.num_nodes):
+        model.fix(fib, i, ["y", "z"])
+    model.fix(fib, -1, "x", -0.276 * L)
+    opts = dict(initial_step=0.05, max_step=0.05, newton=newton, predictor=predictor)
+
+    def spread():
+        x = model.centreline(fib)[::2, 0]
+        return float(np.ptp(np.diff(x)) / (L / 4))
+
+    return run(model, opts, spread)
+
+
+def bundle(newton, predictor, quick) -> dict:
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-    try:
-        import contact_costs
-    except ImportError:
-        return None
-    if not hasattr(contact_costs, "bundle_model"):
-        return None
-    model, answer, opts = contact_costs.bundle_model(3 if quick else 4, 6 if quick else 8)
-    return run(model, dict(opts, newton=newton), answer)
+    import contact_costs
+    from textile.effects.fibre_contact import FibreContact
+
+    rings, elements = (3, 6) if quick else (4, 8)
+    spacing = 0.5 * 40 * contact_costs.R / elements
+    contact = FibreContact(dict(penalty=1e6 / spacing, friction=0.2))
+    model = contact_costs.bundle_model(rings, elements, contact)
+    X = model.mesh.X_global
+    opts = dict(initial_step=0.5, max_step=0.5, newton=newton, predictor=predictor)
+    return run(model, opts, lambda: float(np.abs(model.nodal_unknowns() - X)[:, :3].max()))
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="smaller bundle")
+    parser.add_argument("--quick", action="store_true", help="fewer meshes, smaller bundle")
+    parser.add_argument("--history", action="store_true", help="residual histories")
     args = parser.parse_args()
     print(runtime.describe())
+    cases = [(f"roll-up {n} el.", (lambda n: lambda v, p: rollup(v, p, n))(n))
+             for n in ((32,) if args.quick else (16, 32, 64))]
+    cases += [(f"column, steps {s}", (lambda s: lambda v, p: buckled_column(v, p, s))(s))
+              for s in (0.01, 0.005)]
+    cases += [("squeezed bar", squeezed_bar)]
+    cases += [("61-fibre bundle" if not args.quick else "37-fibre bundle",
+               lambda v, p: bundle(v, p, args.quick))]
     results = {}
-    cases = [("roll-up, pi/8 steps", rollup), ("buckled column, 0.01 steps", buckled_column),
-             ("61-fibre bundle", lambda v: bundle(v, args.quick))]
-    print(f"{'case':<28} {'newton':<9} {'steps':>5} {'its/step':>9} {'max':>4} {'all its':>8} "
-          f"{'solves':>7} {'factor.':>8} {'failed':>7} {'wall [s]':>9}  answer")
+    print(f"{'case':<20} {'newton':<9} {'predictor':<9} {'steps':>5} {'its/step':>8} {'max':>4} "
+          f"{'all its':>7} {'solves':>6} {'factor.':>7} {'failed':>6} {'unstab.':>7} "
+          f"{'wall [s]':>8}  answer")
     for name, fn in cases:
-        for v in VARIANTS:
-            r = fn(v)
-            if r is None:
-                continue
-            results.setdefault(name, {})[v] = r
-            print(f"{name:<28} {v:<9} {r['steps']:5d} {r['mean_per_step'] or 0:9.2f} "
-                  f"{r['max_per_step'] or 0:4d} {r['newton_iterations']:8d} "
-                  f"{r['newton_solves']:7d} {r['factorizations']:8d} {r['failed_attempts']:7d} "
-                  f"{r['wall_seconds']:9.2f}  {r['answer']:.6e} {r['error'][:60]}", flush=True)
+        for newton, predictor in VARIANTS:
+            r = fn(newton, predictor)
+            results.setdefault(name, {})[f"{newton}/{predictor}"] = r
+            print(f"{name:<20} {newton:<9} {predictor:<9} {r['steps']:5d} "
+                  f"{r['mean_per_step'] or 0:8.2f} {r['max_per_step'] or 0:4d} "
+                  f"{r['newton_iterations']:7d} {r['newton_solves']:6d} {r['factorizations']:7d} "
+                  f"{r['failed_attempts']:6d} {r['unstable_steps']:7d} "
+                  f"{r['wall_seconds']:8.2f}  {r['answer']:.6g} "
+                  f"{r['error'][:50]}", flush=True)
+            if args.history and name.startswith("roll-up") and len(r["histories"]) > 3:
+                print("    step 4 residuals: " + " ".join(f"{v:.1e}" for v in r["histories"][3]))
     os.makedirs(OUT, exist_ok=True)
     path = os.path.join(OUT, "newton_iterations.json")
+    for case in results.values():
+        for r in case.values():
+            r.pop("histories")
     with open(path, "w") as f:
         json.dump(dict(date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
                        blas=runtime.blas_info(), results=results), f, indent=1)

@@ -60,6 +60,7 @@ class Model:
         #: State.du); set by the solver
         self.newton = "standard"
         self._linearization_point: PETSc.Vec | None = None
+        self.last_tangent_update = 0.0
 
     # -- scene definition ------------------------------------------------
     def _check_open(self):
@@ -487,7 +488,15 @@ class Model:
             ref.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
             for f, a in zip(self.layout.fields, self.layout.get_local(ref)):
                 st.du[f.name] = st.u[f.name] - a
+            #: size of the update the last MIP tangent extrapolated over (its
+            #: geometric stiffness is exact only when this is small)
+            self.last_tangent_update = float(np.sqrt(self.comm.allreduce(
+                sum(float(np.dot(d, d)) for d in st.du.values()))))
             x.copy(ref)
+        self._assemble_tangent(st, P, J)
+        self._update_floors(x, P)
+
+    def _assemble_tangent(self, st: State, P: PETSc.Mat, J: PETSc.Mat) -> None:
         P.zeroEntries()
         error = None
         try:
@@ -504,7 +513,6 @@ class Model:
         P.assemble()
         if J != P:
             J.assemble()
-        self._update_floors(x, P)
 
     def _update_floors(self, x: PETSc.Vec, K: PETSc.Mat) -> None:
         """Round-off floor of each residual group: | (|K| |q|)_g |, with q

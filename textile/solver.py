@@ -98,15 +98,22 @@ class SolverOptions(Options):
         (contact elements, normals, penalties); a step still changing after
         that many is cut.
     newton:
-        "standard" (exact tangent every iteration) or "mip" (mixed
-        integration point Newton: the beams' geometric stiffness uses the
-        stress extrapolated linearly from the previous iterate, which keeps
-        Newton from overshooting on large rotations; the converged answer is
-        the same).
+        "mip" (default; mixed integration point Newton: the beams' geometric
+        stiffness uses the stress extrapolated linearly from the previous
+        iterate, which keeps Newton from overshooting on large rotations) or
+        "standard" (the exact tangent every iteration). The converged answer
+        is the same; MIP halves the iterations of a roll-up (measured in
+        benchmarks/newton_iterations.py).
     predictor:
-        Initial guess of a step: "secant" extrapolates the last converged
-        increment (fewer Newton iterations on smooth paths), "none" starts
-        from the last converged state.
+        How a step starts: "secant" extrapolates the last converged
+        increment (on a smooth, displacement-driven path: 2 Newton iterations
+        a step instead of 5, and the path stays where it should), which
+        overshoots large rotations and contacts coming on (the penalty law's
+        quadratic part: 19 iterations instead of 12 on a bundle); "none"
+        starts from the last converged state with the new loads and
+        prescribed values; "auto" (default) evaluates both starts and keeps
+        the one with the smaller residual (two residual evaluations a step).
+        Measured in benchmarks/newton_iterations.py.
     linear_solver:
         "mumps" (default), "superlu_dist" or "petsc" (serial).
     factorization:
@@ -138,7 +145,9 @@ class SolverOptions(Options):
         critical modes (SLEPc) and solve again at the same load, so that
         Newton settles on the stable branch (e.g. the buckled column instead
         of the straight one). Tried with amplitudes ``branch_amplitudes``
-        (fractions of the longest fibre) and both signs.
+        (fractions of the longest fibre) and both signs. On by default: an
+        unstable equilibrium is a wrong answer for a fabric; False keeps the
+        unstable path (recorded and warned about).
     verbose:
         Print one progress line per step on rank 0.
     """
@@ -155,8 +164,8 @@ class SolverOptions(Options):
     stol: float = 1e-10
     max_it: int = 25
     line_search: str = "basic"
-    newton: str = "standard"
-    predictor: str = "secant"
+    newton: str = "mip"
+    predictor: str = "auto"
     max_updates: int = 20
     linear_solver: str = "mumps"
     factorization: str = "auto"
@@ -166,7 +175,7 @@ class SolverOptions(Options):
     low_rank_tolerance: float = 0.0
     petsc_options: dict = field(default_factory=dict)
     stability_check: str = "auto"
-    branch_switching: bool = False
+    branch_switching: bool = True
     branch_amplitudes: tuple = (0.01, 0.05, 0.2, 0.5, 1.0)
     verbose: bool = True
 
@@ -179,7 +188,7 @@ class SolverOptions(Options):
             raise ValueError("SolverOptions: need 0 < min_step <= initial_step <= max_step <= 1")
         if not 0 < self.cut < 1 or self.grow < 1:
             raise ValueError("SolverOptions: need 0 < cut < 1 and grow >= 1")
-        choices = dict(newton=("standard", "mip"), predictor=("secant", "none"),
+        choices = dict(newton=("standard", "mip"), predictor=("auto", "secant", "none"),
                        linear_solver=("mumps", "superlu_dist", "petsc"),
                        factorization=("auto", "lu", "cholesky"),
                        stability_check=("auto", "off"))
@@ -347,12 +356,21 @@ class Solver:
             # the scale of a negligible Newton update and of the constraint rows
             self._q_norm = m.x.norm() + m._X_q.norm()
         settled = it > 0 and ynorm <= self.tolerances.floor_update * self._q_norm
+        # was the last factorization the exact tangent of a state close to
+        # this one? (the inertia of the stability check is read from it; a
+        # MIP tangent is exact only for a small extrapolation)
+        self._factor_near = (it > 0 and ynorm <= 1e-6 * self._q_norm
+                             and m.last_tangent_update <= 1e-6 * self._q_norm)
         reference = m.force_reference.copy()
         reference[m.residual_groups.names.index("constraints")] = self._q_norm
         if np.all(self.tolerances.converged(g, reference, m.residual_floors, self._scales,
                                             settled)):
             return PETSc.SNES.ConvergedReason.CONVERGED_FNORM_ABS
-        if it > 0 and ynorm <= o.stol * xnorm:
+        if it == 0:
+            self._f0 = fnorm
+        # a negligible update converges, unless the iterate blew up (a tiny
+        # step relative to a huge solution must not accept |r| = 1e29)
+        if it > 0 and ynorm <= o.stol * xnorm and fnorm <= self._f0:
             return PETSc.SNES.ConvergedReason.CONVERGED_SNORM_RELATIVE
         if it >= o.max_it:
             return PETSc.SNES.ConvergedReason.DIVERGED_MAX_IT
@@ -410,11 +428,16 @@ class Solver:
         # the converged state is the linearization point of the predictor
         m.set_linearization_point()
         prev = self._previous
-        if predict and o.predictor == "secant" and prev is not None and prev[0] < m.load_factor:
-            t_prev, x_prev = prev
-            # x += (t - t_n) / (t_n - t_prev) * (x_n - x_prev)
-            m.x.axpy((t - m.load_factor) / (m.load_factor - t_prev), m.x - x_prev)
+        t_n = m.load_factor
         m.load_factor = t
+        if predict and o.predictor != "none" and prev is not None and prev[0] < t_n:
+            t_prev, x_prev = prev
+            plain = m.x.copy()
+            # x += (t - t_n) / (t_n - t_prev) * (x_n - x_prev)
+            m.x.axpy((t - t_n) / (t_n - t_prev), m.x - x_prev)
+            if o.predictor == "auto" and self._residual_norm(m.x) > self._residual_norm(plain):
+                plain.copy(m.x)  # the extrapolation is worse than none
+            plain.destroy()
         m.apply_constraints(m.x)
         attempt = Attempt(False)
         for outer in range(1, o.max_updates + 1):
@@ -462,12 +485,29 @@ class Solver:
     def _inertia(self) -> Inertia:
         if self.options.stability_check == "off":
             return Inertia(None)
+        if not getattr(self, "_factor_near", False) and self.linear.kind == "cholesky":
+            self._factorize_at_solution()
         inertia = factor_inertia(self.snes.getKSP())
         if inertia.checked:
             # a saddle point (multipliers) has one negative eigenvalue per
             # constraint row by construction (Sylvester)
             inertia.negative -= self.model.saddle_point_rows
         return inertia
+
+    def _factorize_at_solution(self) -> None:
+        """Factorize the exact tangent at the converged state (the Newton
+        solve ended without a factorization close enough to it)."""
+        m = self.model
+        newton, m.newton = m.newton, "standard"
+        try:
+            self._counts["jacobian_evaluations"] += 1
+            m.jacobian(None, m.x, m.A, m.A)
+        finally:
+            m.newton = newton
+        ksp = self.snes.getKSP()
+        ksp.setOperators(m.A, m.A)
+        ksp.setUp()
+        self._factor_near = True
 
     def _check_stability(self, t: float) -> dict:
         """At a converged step: count negative eigenvalues, warn the first
@@ -590,6 +630,9 @@ class Solver:
                 break
         if not stable:
             unstable.copy(m.x)
+            for e in m.effects:
+                e.restore(m)
+            self.step_to(t, predict=False)  # effects, residual and tangent at it again
             self._warn(f"branch switching at t={t:.6g} found no stable equilibrium near the "
                        f"unstable one (amplitudes {o.branch_amplitudes} of the fibre length)")
             return None
@@ -697,6 +740,20 @@ class Solver:
             return self.solve(1.0)
         finally:
             self.options = self._base_options
+
+    def _residual_norm(self, x: PETSc.Vec) -> float:
+        """Norm of the residual at x with the constraints of the current
+        load factor applied (inf outside the domain); x is not changed."""
+        m = self.model
+        y = x.copy()
+        m.apply_constraints(y)
+        r = m.b.duplicate()
+        self._residual(None, y, r)
+        m.domain_error = None
+        norm = r.norm()
+        y.destroy()
+        r.destroy()
+        return norm if np.isfinite(norm) else np.inf
 
     def solve(self, t_end: float = 1.0) -> list[StepRecord]:
         """Advance the current stage from its load factor to ``t_end``

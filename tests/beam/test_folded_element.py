@@ -52,7 +52,13 @@ def test_axial_push_in_one_step_does_not_fold():
     model = textile.Model(fib, comm=MPI.COMM_SELF)
     model.clamp(fib, 0)
     model.fix(fib, -1, ["x"], [-0.06 * L])
-    textile.Solver(model, dict(initial_step=1.0, max_step=1.0, verbose=False)).solve(1.0)
+    # the uniform compression is far past Euler's load: keep that unstable
+    # state (no branch switching) to check it, and check it is flagged
+    solver = textile.Solver(model, dict(initial_step=1.0, max_step=1.0, verbose=False,
+                                        branch_switching=False))
+    with pytest.warns(textile.solver.StabilityWarning, match="stability lost"):
+        solver.solve(1.0)
+    assert solver.history[-1].stability["negative_eigenvalues"] > 0
     x = model.centreline(fib)[:, 0]
     assert np.all(np.diff(x) > 0)  # no node beyond its neighbour
     strain = model.beam.element_fields(model.state().u["beam"])[:, 2]

@@ -111,7 +111,9 @@ def test_counters_count_every_factorization():
     solver = textile.Solver(model, dict(initial_step=0.25, verbose=False))
     solver.solve(0.5)
     c = solver.counters
-    assert c["jacobian_evaluations"] == c["newton_iterations"]
+    # a tangent per Newton iteration, plus the exact ones the stability check
+    # factorizes at converged states it has no close factorization of
+    assert c["jacobian_evaluations"] >= c["newton_iterations"]
     # one factorization per tangent (no reuse), symbolic once per matrix
     assert c["factorizations"] == c["jacobian_evaluations"]
     assert c["symbolic_factorizations"] == 1
