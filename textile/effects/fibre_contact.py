@@ -145,6 +145,11 @@ class FibreContact(Effect):
     fields = ("beam",)
     dynamic_sparsity = True
 
+    @property
+    def symmetric_tangent(self) -> bool:
+        """Frictionless contact derives from a potential at fixed normals."""
+        return self.options.friction == 0
+
     def __init__(self, options: ContactOptions | dict | None = None):
         self.options = options if isinstance(options, ContactOptions) \
             else ContactOptions.from_dict(options)
