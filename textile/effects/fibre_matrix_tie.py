@@ -72,8 +72,6 @@ class FibreMatrixTie(Effect):
         self._cells = cells[mine]
         self._phi = phi[mine]
         mesh.add_ghosts(self._nodes_here)
-        # tied where node and matrix point coincide in the reference state
-        self._gap0 = np.zeros(3)
 
     # -- Effect interface -------------------------------------------------
     def setup(self, model) -> None:
@@ -87,6 +85,10 @@ class FibreMatrixTie(Effect):
         assert np.all(local >= 0), "tied nodes are local by construction (add_ghosts)"
         self._local = local.astype(np.int32)
         self._dofs = self.block.cell_dofs(self._cells)
+        # all ties in one batch (C++): no Python loop per tie
+        self._set = _cpp.PointTieSet(self.stiffness, self._local,
+                                     np.ascontiguousarray(self._dofs, dtype=np.int32).ravel(),
+                                     np.ascontiguousarray(self._phi, dtype=float).ravel())
 
     def add_sparsity(self, sparsity) -> None:
         m = self.block.name
@@ -97,33 +99,18 @@ class FibreMatrixTie(Effect):
             sparsity.insert(m, "beam", dofs, node)
             sparsity.insert(m, m, dofs, dofs)
 
-    def _ties(self, state: State):
-        """Per tie: (x0 dof slice of the node, unrolled matrix dofs, kernel result)."""
-        ub, um = state.u["beam"], state.u[self.block.name]
-        for l, dofs, phi in zip(self._local, self._dofs, self._phi):
-            x0 = slice(9 * l, 9 * l + 3)
-            md = (3 * dofs[:, None] + np.arange(3)).ravel()
-            r, K = _cpp.point_tie(self.stiffness, phi, ub[x0], um[md], self._gap0)
-            yield x0, md, r, K
-
     def residual(self, state: State, b) -> None:
-        bm = b[self.block.name]
-        for x0, md, r, _ in self._ties(state):
-            b["beam"][x0] += r[:3]
-            bm[md] += r[3:]
+        self._set.assemble_vector(state.u["beam"], state.u[self.block.name], b["beam"],
+                                  b[self.block.name])
 
     def jacobian(self, state: State, A) -> None:
-        db, dm = state.dofs["beam"], state.dofs[self.block.name]
-        for x0, md, _, K in self._ties(state):
-            idx = np.concatenate([db[x0], dm[md]]).astype(np.int32)
-            _cpp.add_block(A, idx, idx, K)
+        self._set.assemble_matrix(A, state.dofs["beam"], state.dofs[self.block.name])
 
     # -- results ------------------------------------------------------------
     def tie_forces(self) -> np.ndarray:
         """Total force (3,) the ties exert on the matrix, sum of k gap over
         all ties at the model's current solution (N; collective). The
         fibres receive the opposite force."""
-        total = np.zeros(3)
-        for _, _, r, _ in self._ties(self._model.state()):
-            total += r[:3]  # dE/du_node = k gap
+        st = self._model.state()
+        total = self._set.total_force(st.u["beam"], st.u[self.block.name])
         return self._model.comm.allreduce(total, op=MPI.SUM)
