@@ -84,14 +84,19 @@ class GroupTolerances:
     floor_factor: float = 10.0
     floor_update: float = 1e-8
 
-    def converged(self, norms: np.ndarray, reference: np.ndarray, floors: np.ndarray | None,
-                  scales: np.ndarray, settled: bool = True) -> np.ndarray:
-        """Per group: is the residual below its threshold? ``settled``: the
-        last Newton update was negligible; only then does the round-off floor
+    def converged(self, norms: np.ndarray, reference: np.ndarray, floors, scales: np.ndarray,
+                  settled: bool = True) -> np.ndarray:
+        """Per group: is the residual below its threshold? ``floors``: a
+        callable giving the groups' |(|K||q|)_g| (or None), called only when
+        the other tests leave a group unconverged. ``settled``: the last
+        Newton update was negligible; only then does the round-off floor
         count (a residual can dip to the floor of the stiff axial forces in
         the middle of an oscillating Newton sequence while a compliant mode,
         e.g. the bending of a very slender fibre, is still far off)."""
         limit = np.maximum(self.rtol * reference, self.atol * scales)
-        if floors is not None and settled:
-            limit = np.maximum(limit, self.floor_factor * EPS * floors)
-        return norms <= limit
+        ok = norms <= limit
+        if not np.all(ok) and settled and floors is not None:
+            f = floors()
+            if f is not None:
+                ok = norms <= np.maximum(limit, self.floor_factor * EPS * f)
+        return ok

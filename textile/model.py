@@ -247,6 +247,7 @@ class Model:
                                         else np.zeros(f.size_ghosted) for f in self.layout.fields])
         self.residual_norms = None
         self.residual_floors = None
+        self._floor_tangent = None
         self.force_reference = None
         self.domain_error: Exception | None = None
         self._ready = True
@@ -494,7 +495,7 @@ class Model:
                 sum(float(np.dot(d, d)) for d in st.du.values()))))
             x.copy(ref)
         self._assemble_tangent(st, P, J)
-        self._update_floors(x, P)
+        self._floor_tangent = P
 
     def _assemble_tangent(self, st: State, P: PETSc.Mat, J: PETSc.Mat) -> None:
         P.zeroEntries()
@@ -514,9 +515,14 @@ class Model:
         if J != P:
             J.assemble()
 
-    def _update_floors(self, x: PETSc.Vec, K: PETSc.Mat) -> None:
-        """Round-off floor of each residual group: | (|K| |q|)_g |, with q
-        the unknowns as the kernels see them (textile.convergence)."""
+    def floors(self, x: PETSc.Vec) -> np.ndarray | None:
+        """Round-off floor of each residual group at x: | (|K| |q|)_g |, K
+        the last assembled tangent, q the unknowns as the kernels see them
+        (textile.convergence); None before any tangent. Collective; computed
+        only when the convergence test needs it (a pass over the matrix)."""
+        K = getattr(self, "_floor_tangent", None)
+        if K is None:
+            return None
         q = x.copy()
         q.axpy(1.0, self._X_q)
         y = self.b.duplicate()
@@ -524,6 +530,7 @@ class Model:
         self.residual_floors = self.residual_groups.norms(y.getArray(readonly=True))
         q.destroy()
         y.destroy()
+        return self.residual_floors
 
     # -- results -------------------------------------------------------------
     def _gather_beam(self, values: np.ndarray) -> np.ndarray:

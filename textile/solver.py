@@ -363,7 +363,8 @@ class Solver:
                              and m.last_tangent_update <= 1e-6 * self._q_norm)
         reference = m.force_reference.copy()
         reference[m.residual_groups.names.index("constraints")] = self._q_norm
-        if np.all(self.tolerances.converged(g, reference, m.residual_floors, self._scales,
+        floors = lambda: m.floors(snes.getSolution())  # noqa: E731 (collective, on demand)
+        if np.all(self.tolerances.converged(g, reference, floors, self._scales,
                                             settled)):
             return PETSc.SNES.ConvergedReason.CONVERGED_FNORM_ABS
         if it == 0:
