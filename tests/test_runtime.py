@@ -18,3 +18,13 @@ def test_openblas_with_sane_threads():
         assert info["threads"] * info["ranks_on_node"] <= max(info["cores"], info["ranks_on_node"])
         assert info["threads"] >= 1
     assert "thread(s) per rank" in textile.runtime.describe()
+
+
+@pytest.mark.mpi
+def test_describe_on_one_rank_does_not_block():
+    # benchmarks print the BLAS line on rank 0 only: the node's rank count
+    # (a collective) must already be known from the import
+    from mpi4py import MPI
+    if MPI.COMM_WORLD.rank == 0:
+        assert "rank(s) on" in textile.runtime.describe()
+    MPI.COMM_WORLD.Barrier()

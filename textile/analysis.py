@@ -1,7 +1,8 @@
 """Stability analysis helpers: linearized buckling of a model's fibres.
 
-Small dense eigenproblems on one rank, for validation and studies of single
-fibres or small assemblies (a few thousand unknowns).
+Small dense eigenproblems, for validation and studies of single fibres or
+small assemblies (a few thousand unknowns): under MPI the tangent is
+gathered to rank 0, solved there, and the result broadcast.
 """
 from __future__ import annotations
 
@@ -13,17 +14,25 @@ from .model import Model
 from .solver import Solver
 
 
-def dense_tangent(model: Model) -> tuple[np.ndarray, np.ndarray]:
+def dense_tangent(model: Model) -> tuple[np.ndarray | None, np.ndarray | None]:
     """Dense tangent at the model's current state and load factor, restricted
-    to the free (unconstrained) unknowns; returns (K_ff, free indices).
-    One rank only."""
-    if model.comm.size != 1:
-        raise NotImplementedError("dense_tangent runs on one rank")
+    to the free (unconstrained) unknowns, in PETSc's global numbering;
+    returns (K_ff, free global indices) on rank 0 and (None, None) on the
+    other ranks (collective)."""
     model.setup()
     model.jacobian(None, model.x, model.A, model.A)
-    # an empty target: convert() without one would turn model.A itself dense
-    K = model.A.convert("dense", PETSc.Mat()).getDenseArray().copy()
-    free = np.setdiff1d(np.arange(K.shape[0]), model.constrained_positions())
+    lo, hi = model.A.getOwnershipRange()
+    indptr, cols, vals = model.A.getValuesCSR()
+    constrained = lo + np.asarray(model.constrained_positions(), dtype=np.int64)
+    parts = model.comm.gather((lo, hi, indptr, cols, vals, constrained), root=0)
+    if model.comm.rank != 0:
+        return None, None
+    n = model.A.getSize()[0]
+    K = np.zeros((n, n))
+    for lo_r, hi_r, ip, c, v, _ in parts:
+        rows = np.repeat(np.arange(lo_r, hi_r), np.diff(ip))
+        K[rows, c] = v
+    free = np.setdiff1d(np.arange(n), np.concatenate([p[5] for p in parts]))
     return K[np.ix_(free, free)], free
 
 
@@ -46,13 +55,20 @@ def linear_buckling(model: Model, probe: float = 1e-3, solver_options=None,
     opts.update(solver_options or {})
     Solver(model, opts).solve(probe)
     K1, _ = dense_tangent(model)
-    Kg = (K1 - K0) / probe
+    real = None
+    if model.comm.rank == 0:
+        real = _critical_factors(K0, (K1 - K0) / probe)
+    real = model.comm.bcast(real, root=0)
+    if real.size == 0:
+        raise RuntimeError("linear_buckling: no positive critical load factor found")
+    return np.sort(real)[:num]
+
+
+def _critical_factors(K0: np.ndarray, Kg: np.ndarray) -> np.ndarray:
+    """Positive real mu with det(K0 + mu Kg) = 0."""
     # symmetric tangents: symmetrize away round-off; a repeated eigenvalue
     # (a round section buckles in two planes) still comes out as a complex
     # pair split by round-off (measured 1.6e-8 relative), hence the 1e-6
     mu = scipy.linalg.eigvals(0.5 * (K0 + K0.T), -0.5 * (Kg + Kg.T))
     mu = mu[np.isfinite(mu)]
-    real = mu[(np.abs(mu.imag) <= 1e-6 * np.abs(mu.real)) & (mu.real > 0)].real
-    if real.size == 0:
-        raise RuntimeError("linear_buckling: no positive critical load factor found")
-    return np.sort(real)[:num]
+    return mu[(np.abs(mu.imag) <= 1e-6 * np.abs(mu.real)) & (mu.real > 0)].real

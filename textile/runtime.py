@@ -12,6 +12,7 @@ unless the user chose a count (``OPENBLAS_NUM_THREADS`` or
 from __future__ import annotations
 
 import ctypes
+import functools
 import os
 
 from mpi4py import MPI
@@ -65,7 +66,10 @@ def describe() -> str:
             f"{i['ranks_on_node']} rank(s) on {i['cores']} cores")
 
 
+@functools.cache
 def _ranks_on_node() -> int:
+    """Collective on first call (made at import by :func:`limit_blas_threads`
+    on every rank); cached, so :func:`blas_info` may then run on one rank."""
     node = MPI.COMM_WORLD.Split_type(MPI.COMM_TYPE_SHARED)
     n = node.Get_size()
     node.Free()
@@ -75,12 +79,13 @@ def _ranks_on_node() -> int:
 def limit_blas_threads() -> int:
     """Give each rank on this node cores / ranks OpenBLAS threads (at least
     one), unless the user set a thread count; returns the count in use."""
+    ranks = _ranks_on_node()  # collective: every rank imports textile
     lib = _openblas()
     if lib is None:
         return 1
     if "OPENBLAS_NUM_THREADS" in os.environ or "OMP_NUM_THREADS" in os.environ:
         return int(lib.openblas_get_num_threads())
-    threads = max(1, (os.cpu_count() or 1) // _ranks_on_node())
+    threads = max(1, (os.cpu_count() or 1) // ranks)
     if threads < lib.openblas_get_num_threads():
         lib.openblas_set_num_threads(ctypes.c_int(threads))
     return int(lib.openblas_get_num_threads())

@@ -1,0 +1,40 @@
+"""Every demo runs in the test suite (a quick variant), on one rank and
+under mpirun -n 2, as dolfinx runs its own demos: a demo cannot break
+unnoticed. Each demo checks its own answer against its reference and
+writes its outputs; here we check that it ran through and wrote them."""
+import json
+import os
+import runpy
+import sys
+
+import pytest
+from mpi4py import MPI
+
+DEMOS = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(__file__))), "demos")
+
+CASES = [
+    ("demo_fibre_rollup.py", ["--elements", "16"], ["fibres.pvd", "results.json", "shape.png"]),
+    ("demo_buckled_column.py", ["--elements", "8"], ["fibres.pvd", "results.json",
+                                                     "load_rotation.png"]),
+    ("demo_twisted_pair.py", ["--elements", "12"], ["fibres.pvd", "contacts.pvd",
+                                                    "results.json"]),
+]
+
+
+@pytest.mark.mpi
+@pytest.mark.parametrize("name,args,outputs", CASES)
+def test_demo_runs(name, args, outputs, tmp_path_factory):
+    comm = MPI.COMM_WORLD
+    out = comm.bcast(str(tmp_path_factory.mktemp(name[:-3])) if comm.rank == 0 else None)
+    argv = sys.argv
+    sys.argv = [name, "--output", out] + args
+    try:
+        runpy.run_path(os.path.join(DEMOS, name), run_name="__main__")
+    finally:
+        sys.argv = argv
+    comm.Barrier()
+    if comm.rank == 0:
+        for f in outputs:
+            assert os.path.getsize(os.path.join(out, f)) > 0, f
+        steps = json.load(open(os.path.join(out, "results.json")))["steps"]
+        assert steps and "failure" not in json.load(open(os.path.join(out, "results.json")))["meta"]
