@@ -59,6 +59,19 @@ def shrinkage(fabric, model) -> np.ndarray:
     return np.array(out)
 
 
+def _cut(fabric, model, q: np.ndarray, k: int, along: int, cut: float) -> np.ndarray:
+    """(fibres, 3) points where the fibres of yarn k cross the plane
+    x[along] = cut (linear between nodes)."""
+    pts = []
+    for f in _fibres_of(fabric, k):
+        x = q[model.mesh.fibre_nodes(f), 0:3]
+        s = x[:, along]
+        n = int(np.clip(np.searchsorted(s, cut), 1, len(s) - 1))
+        w = (cut - s[n - 1]) / (s[n] - s[n - 1]) if s[n] != s[n - 1] else 0.0
+        pts.append((1 - w) * x[n - 1] + w * x[n])
+    return np.array(pts)
+
+
 def section_shapes(fabric, model) -> list[dict]:
     """Width and height of each yarn at each of its crossings."""
     q = model.nodal_unknowns()
@@ -66,21 +79,29 @@ def section_shapes(fabric, model) -> list[dict]:
     for i, j, point, warp_on_top in fabric.crossings():
         for k, along in ((j, 0), (fabric.num_warp + i, 1)):
             across = 1 - along
-            cut = point[along]
             yarn = fabric.yarn(k)
-            pts = []
-            for f in _fibres_of(fabric, k):
-                x = q[model.mesh.fibre_nodes(f), 0:3]
-                s = x[:, along]
-                n = int(np.clip(np.searchsorted(s, cut), 1, len(s) - 1))
-                w = (cut - s[n - 1]) / (s[n] - s[n - 1]) if s[n] != s[n - 1] else 0.0
-                pts.append((1 - w) * x[n - 1] + w * x[n])
-            pts = np.array(pts)
+            pts = _cut(fabric, model, q, k, along, point[along])
             out.append(dict(weft=i, warp=j, yarn=k, direction=fabric.yarn_direction(k),
                             width=float(np.ptp(pts[:, across]) + 2 * yarn.radius),
                             height=float(np.ptp(pts[:, 2]) + 2 * yarn.radius),
                             centre_height=float(pts[:, 2].mean())))
     return out
+
+
+def crossing_separation(fabric, model) -> np.ndarray:
+    """Per crossing (``fabric.crossings()`` order), the lowest fibre of the
+    yarn the pattern puts on top minus the highest fibre of the other, in
+    the vertical, centre lines taken where they pass the crossing: > 0 when
+    every fibre of the upper yarn lies above every fibre of the lower one.
+    (Not a gap: the radii are not subtracted.)"""
+    q = model.nodal_unknowns()
+    out = []
+    for i, j, point, warp_on_top in fabric.crossings():
+        warp = _cut(fabric, model, q, j, 0, point[0])[:, 2]
+        weft = _cut(fabric, model, q, fabric.num_warp + i, 1, point[1])[:, 2]
+        top, bottom = (warp, weft) if warp_on_top else (weft, warp)
+        out.append(top.min() - bottom.max())
+    return np.array(out)
 
 
 def fibre_curvatures(model) -> np.ndarray:

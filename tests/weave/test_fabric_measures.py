@@ -68,3 +68,17 @@ def test_section_shapes_and_curvature():
     assert kappa.max() == pytest.approx(2 * R * (np.pi / p) ** 2, rel=2e-2)
     summary = fm.summary(fab, model)
     assert summary["warp crimp"] > 0 and summary["weft crimp"] == pytest.approx(0, abs=1e-14)
+
+
+def test_crossing_separation_reads_the_pattern():
+    # warps on z = a sin(pi x / p): at the weft crossings x = -+p/2 they sit
+    # at -+a; the 7-fibre yarns are 2 sqrt(3) R high (centre lines)
+    a = 5 * R
+    fab, model, p = sine_state(a, 0.0)
+    sep = fm.crossing_separation(fab, model)
+    h = 2 * np.sqrt(3) * R
+    for (i, j, point, warp_on_top), s in zip(fab.crossings(), sep):
+        z = a * np.sin(np.pi * point[0] / p)
+        expected = (z - h) if warp_on_top else (-z - h)
+        # linear interpolation between nodes of the sine (16 elements a pitch)
+        assert s == pytest.approx(expected, abs=1e-3 * a)
