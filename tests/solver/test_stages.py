@@ -97,9 +97,10 @@ def pulled_and_bent(path=None, resume_from=None):
     if resume_from is None:
         solver.run_stage(first)
         if path is not None:
-            textile.save_state(model, path, solver)
+            textile.save_state(model, path, solver, fibre_data={"yarn": [3]})
     else:
-        textile.load_state(model, resume_from, solver)
+        attrs = textile.load_state(model, resume_from, solver)
+        assert attrs["fibre_data"]["yarn"].tolist() == [3]  # labels come back
     solver.run_stage(second)
     return model
 
@@ -113,3 +114,9 @@ def test_saved_and_resumed_run_equals_the_continuous_one(tmp_path):
     rc, rr = continuous.rigid_bodies.reactions(), resumed.rigid_bodies.reactions()
     assert np.abs(rc - rr).max() <= 1e-8 * np.abs(rc).max()
     assert resumed.rigid_bodies.turned[1] == pytest.approx([0, 0.3, 0], abs=1e-14)
+
+
+def test_fibre_labels_must_match_the_fibres(tmp_path):
+    fib, model, force = cantilever()
+    with pytest.raises(ValueError, match="fibre_data.'yarn'. has .2,. values"):
+        textile.save_state(model, str(tmp_path / "s.h5"), fibre_data={"yarn": [0, 1]})

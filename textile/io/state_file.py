@@ -12,6 +12,10 @@ from), independent of how many MPI ranks wrote or read it:
     in the global node numbering (fibre after fibre).
 ``/fibres/first_node``, ``/fibres/radius``
     Where each fibre starts, and its radius.
+``/fibres/data/<name>``
+    Optional per-fibre labels given to :func:`save_state` (e.g. ``yarn``,
+    each fibre's yarn), returned by :func:`load_state` under
+    ``"fibre_data"``.
 ``/schedules/<name>/{start,target,active}``
     Every loading quantity's stage values (:mod:`textile.loading`).
 ``/effects/<name>/...``
@@ -28,11 +32,19 @@ import numpy as np
 FORMAT, VERSION = "textile-state", 1
 
 
-def save_state(model, path: str, solver=None) -> None:
-    """Write the model's current state (collective: call on every rank)."""
+def save_state(model, path: str, solver=None, fibre_data=None) -> None:
+    """Write the model's current state (collective: call on every rank).
+    ``fibre_data``: optional name -> array with one value per fibre."""
     import h5py
 
     model.setup()
+    labels = {}
+    for name, values in (fibre_data or {}).items():
+        a = np.asarray(values)
+        if a.shape[:1] != (len(model.mesh.fibres),):
+            raise ValueError(f"save_state: fibre_data[{name!r}] has {a.shape[:1]} values, the "
+                             f"model has {len(model.mesh.fibres)} fibres")
+        labels[name] = a
     u = model._gather_beam(model.state().u["beam"])
     effects = {}
     for e in model.effects:
@@ -51,6 +63,9 @@ def save_state(model, path: str, solver=None) -> None:
         g["unknowns"] = u
         g["first_node"] = model.mesh.first_node
         g["radius"] = np.array([fib.radius for fib in model.mesh.fibres])
+        d = g.create_group("data")
+        for name, a in labels.items():
+            d[name] = a
         s = f.create_group("schedules")
         for k, sched in enumerate(model.schedules()):
             h = s.create_group(f"{k:03d} {sched.name}")
@@ -65,7 +80,7 @@ def save_state(model, path: str, solver=None) -> None:
 def load_state(model, path: str, solver=None) -> dict:
     """Set the model (built as when the state was saved) to the saved state:
     unknowns, stage values, effects' history. Collective. Returns the file's
-    attributes."""
+    attributes, and the saved per-fibre labels under ``"fibre_data"``."""
     import h5py
 
     model.setup()
@@ -96,6 +111,8 @@ def load_state(model, path: str, solver=None) -> dict:
             sched._callables = []
         effects = {name: {k: v[...] for k, v in grp.items()}
                    for name, grp in f["effects"].items()}
+        if "data" in f["fibres"]:
+            attrs["fibre_data"] = {k: v[...] for k, v in f["fibres/data"].items()}
     model.load_factor = float(attrs["load_factor"])
     model._constraint_cache = None
     model._setup_constraints()
