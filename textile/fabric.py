@@ -44,7 +44,8 @@ class Fabric:
         :class:`~textile.yarn.Yarn` of each direction (weft defaults to the
         warp's).
     num_warp, num_weft:
-        Yarn counts (>= 1; multiples of the pattern's repeat).
+        Yarn counts (>= 1; the last repeat may be cut, as long as every
+        yarn still changes side).
     spacing:
         Distance between neighbouring yarns (length): one number, or
         (warp spacing, weft spacing).

@@ -42,6 +42,7 @@ class WeavePattern:
 
     def __init__(self, order, allow_floats: bool = False, name: str = "custom"):
         self.order = self._validated(order, allow_floats)
+        self.allow_floats = allow_floats
         self.name = name
 
     # -- construction ------------------------------------------------------
@@ -152,14 +153,25 @@ class WeavePattern:
 
     def tile(self, num_weft: int, num_warp: int) -> np.ndarray:
         """Crossing order of a fabric of num_weft x num_warp yarns: the
-        repeat tiled; its shape must divide the yarn counts."""
-        for label, n, p in (("weft", num_weft, self.shape[0]), ("warp", num_warp, self.shape[1])):
+        repeat tiled, the last repeat cut where the yarns end (a fabric's
+        width need not be a multiple of its repeat: a 3 x 3 plain weave is
+        one). The pattern does not fit the counts when a yarn of the cut
+        fabric never changes side (unless floats are allowed)."""
+        for label, n in (("weft", num_weft), ("warp", num_warp)):
             if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
                 raise ValueError(f"number of {label} yarns must be a positive integer, got {n!r}")
-            if n % p:
-                raise ValueError(f"the {self.name} pattern repeats every {p} {label} yarns: "
-                                 f"{n} {label} yarns do not tile it (use a multiple of {p})")
-        return np.tile(self.order, (num_weft // self.shape[0], num_warp // self.shape[1]))
+        reps = (-(-num_weft // self.shape[0]), -(-num_warp // self.shape[1]))
+        order = np.tile(self.order, reps)[:num_weft, :num_warp]
+        if not self.allow_floats:
+            for label, lines, other in (("weft", order, "warp"), ("warp", order.T, "weft")):
+                for k, line in enumerate(lines):
+                    if len(line) > 1 and len(set(line)) == 1:
+                        raise ValueError(
+                            f"the {self.name} pattern does not fit {num_weft} weft x {num_warp} "
+                            f"warp yarns: {label} yarn {k} would never change side over "
+                            f"{len(line)} {other} yarns (the repeat is {self.shape[0]} weft x "
+                            f"{self.shape[1]} warp yarns: use more yarns)")
+        return order
 
     def __repr__(self) -> str:
         return f"WeavePattern({self.name!r}, {self.order.tolist()})"

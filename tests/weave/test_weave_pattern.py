@@ -78,8 +78,14 @@ def test_bad_names(name, match):
         WeavePattern.named(name)
 
 
-def test_tiling_must_divide_the_yarn_counts():
-    with pytest.raises(ValueError, match="repeats every 4 warp yarns: 6 warp yarns"):
-        WeavePattern.named("twill 2/2").tile(4, 6)
+def test_partial_repeats_fit_when_every_yarn_interlaces():
+    # a fabric's width need not be a multiple of the repeat
+    assert WeavePattern.plain().tile(3, 3).tolist() == [[1, 0, 1], [0, 1, 0], [1, 0, 1]]
+    t = WeavePattern.named("twill 2/2").tile(4, 6)
+    assert t.shape == (4, 6) and np.array_equal(t[:, 4:], t[:, :2])
+    # two wefts of a 2/2 twill: a warp floats over both and never changes side
+    with pytest.raises(ValueError, match="does not fit 2 weft x 4 warp yarns: warp yarn 0 would "
+                                         "never change side"):
+        WeavePattern.named("twill 2/2").tile(2, 4)
     with pytest.raises(ValueError, match="number of weft yarns must be a positive integer"):
         WeavePattern.plain().tile(0, 2)

@@ -99,7 +99,7 @@ def test_twisted_yarn_makes_helices():
     (dict(spacing=5 * R), "warp yarns are 0.006 wide.*only 0.005 apart"),
     (dict(pattern="herringbone"), "unknown weave pattern"),
     (dict(pattern=[[1, 2], [0, 1]]), r"entry \(0, 1\) is 2"),
-    (dict(pattern="twill 2/2"), "repeats every 4"),
+    (dict(pattern="twill 2/2"), "does not fit 2 weft x 2 warp yarns"),
     (dict(free_length=0), "free_length must be positive"),
 ])
 def test_bad_fabrics_fail_before_any_computation(kwargs, match):
