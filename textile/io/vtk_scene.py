@@ -146,7 +146,7 @@ def place_camera(renderer: vtkRenderer, view: str, bounds: np.ndarray, width: in
     renderer.ResetCameraClippingRange()
 
 
-def axes_renderer() -> vtkRenderer:
+def axes_renderer(font_size: int) -> vtkRenderer:
     """A small x, y, z triad for the lower left corner (see follow_camera)."""
     axes = vtkAxesActor()
     axes.SetShaftTypeToCylinder()
@@ -155,7 +155,11 @@ def axes_renderer() -> vtkRenderer:
     axes.SetTotalLength(1.0, 1.0, 1.0)
     for caption in (axes.GetXAxisCaptionActor2D(), axes.GetYAxisCaptionActor2D(),
                     axes.GetZAxisCaptionActor2D()):
+        caption.GetTextActor().SetTextScaleModeToNone()    # a fixed, readable size
+        caption.SetWidth(0.4)
+        caption.SetHeight(0.2)
         text = caption.GetCaptionTextProperty()
+        text.SetFontSize(font_size)
         text.SetColor(0.1, 0.1, 0.1)
         text.ShadowOff()
         text.ItalicOff()
@@ -190,12 +194,11 @@ def legend(entries: list, height: int) -> vtkLegendBoxActor:
         box.SetEntry(i, disc.GetOutput(), str(text), rgb)
     box.BorderOff()
     box.GetEntryTextProperty().ShadowOff()
-    box.GetEntryTextProperty().SetFontSize(max(12, height // 45))
-    rows = 0.045 * len(entries)
+    rows = 0.038 * len(entries)     # the box's size sets the text's
     box.GetPositionCoordinate().SetCoordinateSystemToNormalizedViewport()
-    box.GetPositionCoordinate().SetValue(0.84, 0.96 - rows)
+    box.GetPositionCoordinate().SetValue(0.87, 0.96 - rows)
     box.GetPosition2Coordinate().SetCoordinateSystemToNormalizedViewport()
-    box.GetPosition2Coordinate().SetValue(0.14, rows)
+    box.GetPosition2Coordinate().SetValue(0.11, rows)
     return box
 
 
@@ -235,7 +238,7 @@ def render(job: dict) -> None:
     renderer.SSAOBlurOn()
     if job["legend"]:
         renderer.AddActor2D(legend(job["legend"], height))
-    corner = axes_renderer()
+    corner = axes_renderer(max(10, height // 45))
     window.AddRenderer(renderer)
     window.AddRenderer(corner)
     for view, path in job["views"]:
