@@ -48,6 +48,8 @@ __all__ = ["RenderingUnavailable", "RenderingWarning", "read_fibres_vtu",
 _SCENE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "vtk_scene.py")
 # a legend with more entries than this would hide the sample (fibre ids of a fabric)
 _MAX_LEGEND = 12
+# in-plane fibres of a cut: their colour mixed with white (a 1/2.2 share of colour)
+_BAND_TINT = 2.2
 
 
 class RenderingUnavailable(RuntimeError):
@@ -333,7 +335,7 @@ def render_cross_section_png(centrelines, radii, fibre_key, plane, path, *,
     # the farthest (most negative depth) first so nearer ones cover them
     for band in sorted(cut.bands, key=lambda b: b.depth):
         colour = colours[keys[band.fibre].item()]
-        ax.add_patch(Polygon(band.outline, closed=True, facecolor=_shade(colour, 2.2),
+        ax.add_patch(Polygon(band.outline, closed=True, facecolor=_shade(colour, _BAND_TINT),
                              edgecolor=_shade(colour, 0.8), linewidth=0.4, zorder=1))
     for e in cut.ellipses:
         ax.add_patch(Ellipse(e.centre, 2 * e.semi_axes[0], 2 * e.semi_axes[1], angle=e.angle,
