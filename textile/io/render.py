@@ -87,13 +87,16 @@ def _fibres(centrelines, radii, fibre_key):
     return lines, radii, keys
 
 
-def _legend(keys: np.ndarray, labels: Mapping | None) -> list[tuple[str, tuple]]:
-    """[(text, rgb)] of the keys present, in key order; empty without labels
-    or when there would be too many entries."""
+def _legend(keys: np.ndarray, labels: Mapping | None,
+            shown: np.ndarray | None = None) -> list[tuple]:
+    """[(key, text, rgb)] of the keys (of those ``shown``, default all), in key
+    order; empty without labels or when there would be too many entries.
+    Colours come from all ``keys``: a yarn keeps its colour in every picture."""
     colours = key_colours(keys)
-    if labels is None or len(colours) > _MAX_LEGEND:
-        return []
-    return [(str(labels.get(k, k)), rgb) for k, rgb in colours.items()]
+    shown = set(np.asarray(keys if shown is None else shown).tolist())
+    entries = [(k, str(labels.get(k, k)), rgb) for k, rgb in colours.items() if k in shown] \
+        if labels is not None else []
+    return entries if len(entries) <= _MAX_LEGEND else []
 
 
 def read_fibres_vtu(path, key: str = "yarn"):
@@ -194,7 +197,8 @@ def render_fibres_png(path, centrelines=None, radii=None, fibre_key=None, *, vtu
             views = [["oblique", os.path.abspath(path)]]
             if top_path is not None:
                 views.append(["top", os.path.abspath(top_path)])
-            job = dict(arrays=arrays, legend=_legend(keys, labels), size=[width, height],
+            legend = [(text, rgb) for _, text, rgb in _legend(keys, labels)]
+            job = dict(arrays=arrays, legend=legend, size=[width, height],
                        views=views, sides=int(sides))
             job_path = os.path.join(tmp, "job.json")
             with open(job_path, "w") as f:
@@ -230,7 +234,7 @@ def _shade(rgb, factor: float) -> tuple:
 def _legend_handles(legend: list) -> list:
     from matplotlib.lines import Line2D
     return [Line2D([], [], color=rgb, marker="o", linestyle="", markersize=8, label=text)
-            for text, rgb in legend]
+            for _, text, rgb in legend]
 
 
 def _points_per_unit(fig, ax, view: str, centre: np.ndarray) -> float:
@@ -353,8 +357,12 @@ def render_cross_section_png(centrelines, radii, fibre_key, plane, path, *,
     ax.set_ylabel(f"{cut.axis_names[1]} [{units}]")
     ax.grid(True, linewidth=0.3, alpha=0.5)
     ax.set_axisbelow(True)
+    sections = set(keys[[e.fibre for e in cut.ellipses]].tolist())
     cut_keys = keys[[e.fibre for e in cut.ellipses] + [b.fibre for b in cut.bands]]
-    legend = _legend(cut_keys, labels)
+    # a yarn seen only as bands is named so, in the bands' tint
+    legend = [(k, text, rgb) if k in sections else
+              (k, f"{text} (in the plane)", _shade(rgb, _BAND_TINT))
+              for k, text, rgb in _legend(keys, labels, shown=cut_keys)]
     if legend:
         ax.legend(handles=_legend_handles(legend), loc="upper left", bbox_to_anchor=(1.0, 1.0),
                   frameon=False)

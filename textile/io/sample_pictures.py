@@ -150,7 +150,8 @@ def draw_sample_pictures(directory: str, lines, radii, yarn=None, axes: dict | N
                          unit: str | None = None) -> tuple[dict, list[str]]:
     """Draw sample<suffix>.png, sample_top<suffix>.png and the cuts in
     ``directory`` (``yarn``: per fibre; ``axes``: :func:`yarn_axes`;
-    ``unit``: of length, on the cuts' axes). Each picture on its own: one
+    ``size``: of the 3D pictures, pixels; ``unit``: of length, on the cuts'
+    axes). Each picture on its own: one
     failing does not stop the others. Returns ({file: "vtk" |
     "matplotlib"}, [error messages])."""
     key = np.arange(len(lines)) if yarn is None else np.asarray(yarn)
@@ -175,8 +176,7 @@ def draw_sample_pictures(directory: str, lines, radii, yarn=None, axes: dict | N
         try:
             render_cross_section_png(lines, radii, key, (plane.point, plane.normal),
                                      os.path.join(directory, name), labels=labels,
-                                     depth=plane.depth, title=plane.title, unit=unit,
-                                     width_px=size[0])
+                                     depth=plane.depth, title=plane.title, unit=unit)
             drawn[name] = "matplotlib"
         except Exception as e:
             errors.append(f"{name}: {type(e).__name__}: {e}")
