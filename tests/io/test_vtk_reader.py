@@ -23,8 +23,9 @@ vtk_xml = pytest.importorskip(
            ".ci/install does)")
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
-R, L, DELTA = 1e-3, 0.1, 1e-4
-YARN = np.array([1, 0, 0])               # A is the weft, B and C the warp
+R, L, S, DELTA = 1e-3, 0.1, 0.02, 2e-4
+YARN = np.array([2, 0, 1])               # A is the weft, B and C two warp yarns
+DIRECTIONS = ["warp", "warp", "weft"]
 POINT_ARRAYS = {"radius": 1, "displacement": 3, "g1": 3, "g2": 3, "yarn": 1, "fibre_id": 1}
 CELL_ARRAYS = {**{f"{k}_{c}": 1 for k in ("strain", "stress")
                   for c in ("11", "22", "33", "23", "13", "12")}, "yarn": 1, "fibre_id": 1}
@@ -38,25 +39,23 @@ def shared_directory(tmp_path) -> str:
 
 
 def run_scene(directory, comm, **output_options):
-    """tests/contact/test_contact_parallel.py's scene: A fixed along y, B
-    across it lowered by DELTA at its ends, C lying on B under a load."""
+    """A plain-weave crossing in miniature: weft fibre A along y, clamped at
+    its ends; warp fibre B along x passes over it at y = -S and is lowered
+    by DELTA at its ends, warp fibre C passes under it at y = +S and is
+    raised by DELTA: A is crimped into an S between them."""
     mat = textile.Material(1.0e9, 0.3)
     A = textile.straight_fibre([0, -L / 2, 0], [0, L / 2, 0], R, mat, num_elements=8)
-    B = textile.straight_fibre([-L / 2, 0, 2 * R], [L / 2, 0, 2 * R], R, mat, num_elements=8)
-    C = textile.straight_fibre([-L / 4, 0, 4 * R - 1e-6], [L / 4, 0, 4 * R - 1e-6], R, mat,
-                               num_elements=4)
+    B = textile.straight_fibre([-L / 4, -S, 2 * R], [L / 4, -S, 2 * R], R, mat, num_elements=4)
+    C = textile.straight_fibre([-L / 4, S, -2 * R], [L / 4, S, -2 * R], R, mat, num_elements=4)
     model = textile.Model([A, B, C], comm=comm)
-    for n in range(A.num_nodes):
-        model.fix(A, n, "all")
-    model.fix(B, 0, ["position", "g1x"], [0, 0, -DELTA, 0])
-    model.fix(B, -1, ["y", "z"], [0, -DELTA])
-    for n in (0, -1):
-        model.fix(C, n, ["x", "y", "g1x"] if n == 0 else ["y"])
-    for n in range(C.num_nodes):
-        model.add_force(C, n, [0, 0, -1e-3])
+    for end in (0, -1):
+        model.fix(A, end, "all")
+    for fibre, sign in ((B, -1), (C, 1)):
+        model.fix(fibre, 0, ["position", "g1x"], [0, 0, sign * DELTA, 0])
+        model.fix(fibre, -1, ["y", "z"], [0, sign * DELTA])
     model.add_effect(FibreContact(dict(friction=0.2)))
     output = textile.Output(directory, fibre_data={"yarn": YARN},
-                            yarn_directions=["warp", "weft"], **output_options)
+                            yarn_directions=DIRECTIONS, **output_options)
     solver = textile.Solver(model, dict(initial_step=0.25, max_step=0.25, verbose=False),
                             output=output)
     solver.solve()
@@ -108,10 +107,15 @@ def test_series_reads_back_in_vtk(tmp_path):
         np.testing.assert_array_equal(point["yarn"], np.repeat(YARN, nodes))
         np.testing.assert_array_equal(cell["yarn"], np.repeat(YARN, np.array(nodes) - 1))
         np.testing.assert_array_equal(point["radius"], R)
-    # the last state is the prescribed one: B's first node lowered by DELTA
-    # (a prescribed value is met exactly, to round-off)
+    # the last state is the prescribed one: B's first node lowered by DELTA,
+    # C's raised (a prescribed value is met exactly, to round-off)
     u = arrays(series[-1][1].GetPointData())["displacement"]
     assert u[nodes[0], 2] == pytest.approx(-DELTA, rel=1e-12)
+    assert u[nodes[0] + nodes[1], 2] == pytest.approx(DELTA, rel=1e-12)
+    # and A, pushed down under B and up over C, is crimped into an S
+    a = u[:nodes[0]]
+    y = np.linspace(-L / 2, L / 2, nodes[0])
+    assert a[np.argmin(abs(y + S)), 2] < 0 < a[np.argmin(abs(y - S)), 2]
 
     contacts = read_series(os.path.join(directory, "contacts.pvd"))
     assert [t for t, _ in contacts] == times     # contact in every step

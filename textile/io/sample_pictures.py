@@ -102,6 +102,11 @@ def _coordinate(normal: np.ndarray) -> str:
     return "xyz"[axis] if abs(normal[axis]) > 1 - 1e-9 else "s"
 
 
+def _reads(value: float, decimals: int) -> float:
+    """``value`` rounded for a title (+ 0.0 turns -0.0 into 0.0)."""
+    return round(float(value), decimals) + 0.0
+
+
 def cut_planes(lines, radii, yarn, axes: dict | None) -> list[CutPlane]:
     """The cuts of the module docstring for fibres ``lines`` (one (n, 3)
     array each), ``radii`` and ``yarn`` (per fibre; None: no yarns)."""
@@ -119,8 +124,8 @@ def cut_planes(lines, radii, yarn, axes: dict | None) -> list[CutPlane]:
                          "cut normal to the mean fibre direction, through the sample's middle")]
     yarn = np.asarray(yarn)
     labels = yarn_labels(yarn, axes)
-    # positions below round-off of the sample's size read as 0, not 1.75e-18
-    tiny = 1e-12 * np.ptp(points, axis=0).max()
+    # a position is written to 1e-4 of the sample's size: "x = 0", not "x = -2.1e-07"
+    decimals = 4 - int(np.ceil(np.log10(np.ptp(points, axis=0).max())))
     planes = []
     for name in dict.fromkeys(n for n, _ in axes.values()):
         normal = next(v for n, v in axes.values() if n == name)
@@ -128,19 +133,20 @@ def cut_planes(lines, radii, yarn, axes: dict | None) -> list[CutPlane]:
         middle = (s.min() + s.max()) / 2
         across = [k for k in np.unique(yarn).tolist() if abs(np.dot(axes[k][1], normal)) < 0.5]
         coordinate = _coordinate(normal)
-        middle = 0.0 if abs(middle) < tiny else middle
         if not across:
             planes.append(CutPlane(name, middle * normal, normal, None,
-                                   f"{name} yarns cut at {coordinate} = {middle:.4g}"))
+                                   f"{name} yarns cut at {coordinate} = "
+                                   f"{_reads(middle, decimals):.4g}"))
             continue
         # each fibre's mean position along the normal, per yarn lying across
         fibre_s = {f: float(np.mean(lines[f] @ normal)) for f in range(len(lines))}
         yarn_s = {k: np.mean([fibre_s[f] for f in np.flatnonzero(yarn == k)]) for k in across}
         through = min(across, key=lambda k: abs(yarn_s[k] - middle))
-        position = 0.0 if abs(yarn_s[through]) < tiny else float(yarn_s[through])
+        position = yarn_s[through]
         depth = max(abs(fibre_s[f] - position) + radii[f] for f in np.flatnonzero(yarn == through))
         planes.append(CutPlane(name, position * normal, normal, depth,
-                               f"{name} yarns cut at {coordinate} = {position:.4g}, "
+                               f"{name} yarns cut at {coordinate} = "
+                               f"{_reads(position, decimals):.4g}, "
                                f"through {labels[through]}"))
     return planes
 
