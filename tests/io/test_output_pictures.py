@@ -1,27 +1,20 @@
 """When Output draws its pictures, and that a picture never costs a result."""
 import json
 
-import numpy as np
 import pytest
-from mpi4py import MPI
 
 import textile
+from tests.beam.test_solver import bar as held_straight_bar
 from textile.io import render, sample_pictures
 
 QUIET = dict(verbose=False)
 
 
 def bar(compression: float):
-    """A fibre held straight (lateral dofs fixed) and pushed at its tip by
+    """tests/beam/test_solver.py's fibre held straight, pushed at its tip by
     ``compression`` E A: beyond 0.19245 E A there is no equilibrium."""
-    E, nu, R, L = 1.0e9, 0.3, 1e-3, 0.05
-    fibre = textile.straight_fibre([0, 0, 0], [L, 0, 0], R, textile.Material(E, nu),
-                                   num_elements=2, section_vector=[0, 1, 0])
-    model = textile.Model(fibre, comm=MPI.COMM_SELF)
-    model.fix(fibre, 0, ["position", "g1x", "g1z", "g2x", "g2y"])
-    for i in range(1, fibre.num_nodes):
-        model.fix(fibre, i, ["y", "z"])
-    model.add_force(fibre, -1, [-compression * E * np.pi * R ** 2, 0, 0])
+    fibre, model, EA = held_straight_bar()
+    model.add_force(fibre, -1, [-compression * EA, 0, 0])
     return model
 
 
