@@ -28,6 +28,7 @@ from __future__ import annotations
 import importlib.util
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -148,9 +149,12 @@ def _run_scene(command: list[str], job_path: str, timeout: float) -> None:
         raise RenderingUnavailable(f"the VTK rendering process took more than {timeout:g} s "
                                    f"and was killed") from None
     if process.returncode != 0:
-        tail = "\n".join(out.decode(errors="replace").strip().splitlines()[-8:])
-        raise RenderingUnavailable(f"the VTK rendering process failed (exit code "
-                                   f"{process.returncode}): {tail}")
+        # VTK's log colours its lines: no escape codes in a message
+        text = re.sub(r"\x1b\[[0-9;]*m", "", out.decode(errors="replace")).strip()
+        tail = "\n".join(text.splitlines()[-8:])
+        code = process.returncode
+        how = f"was killed by {signal.Signals(-code).name}" if code < 0 else f"exited with {code}"
+        raise RenderingUnavailable(f"the VTK rendering process failed ({how}): {tail}")
 
 
 def render_fibres_png(path, centrelines=None, radii=None, fibre_key=None, *, vtu=None,
