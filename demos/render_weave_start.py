@@ -27,6 +27,8 @@ VTK off-screen, or a matplotlib sketch with a warning when VTK cannot draw).
 import argparse
 import os
 
+from mpi4py import MPI
+
 import textile
 from textile.fabric import Fabric
 from textile.io.sample_pictures import draw_sample_pictures, fabric_labels, yarn_axes
@@ -43,12 +45,13 @@ fabric = Fabric(yarn, num_warp=2, num_weft=2, spacing=1.0, pattern="plain")
 fibres = fabric.fibres()
 labels = fabric_labels(fabric)
 
-os.makedirs(args.output, exist_ok=True)
-drawn, errors = draw_sample_pictures(args.output, [f.points for f in fibres],
-                                     [f.radius for f in fibres],
-                                     labels["fibre_data"]["yarn"],
-                                     yarn_axes(labels["yarn_directions"]), unit="mm")
-for name, backend in sorted(drawn.items()):
-    print(f"{os.path.join(args.output, name)}  ({backend})")
-for error in errors:
-    print(f"not drawn: {error}")
+if MPI.COMM_WORLD.rank == 0:     # pictures are serial: one rank draws (as Output does)
+    os.makedirs(args.output, exist_ok=True)
+    drawn, errors = draw_sample_pictures(args.output, [f.points for f in fibres],
+                                         [f.radius for f in fibres],
+                                         labels["fibre_data"]["yarn"],
+                                         yarn_axes(labels["yarn_directions"]), unit="mm")
+    for name, backend in sorted(drawn.items()):
+        print(f"{os.path.join(args.output, name)}  ({backend})")
+    for error in errors:
+        print(f"not drawn: {error}")
