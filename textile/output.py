@@ -7,16 +7,27 @@ and per-segment section-averaged strain and stress) to
 appends the step's statistics to ``results.json``. Everything is gathered
 to rank 0 and written there. Files are replaced atomically, so a run that
 fails keeps every converged step.
+
+Per-fibre labels (``fibre_data``, e.g. each fibre's yarn) go on every
+fibres .vtu as point and cell arrays. Pictures of the final state
+(``sample.png``, ``sample_top.png``, ``cut_*.png``; see
+:mod:`textile.io.sample_pictures`) are drawn after the results are written;
+a picture that fails is a warning, never a lost result.
 """
 from __future__ import annotations
 
 import os
+import warnings
+from collections.abc import Mapping
 
 import numpy as np
 
 from .io import PVDSeries, ResultsLog, write_fibres_vtu
 
 _VOIGT = ("11", "22", "33", "23", "13", "12")
+# arrays Output writes itself: a fibre_data array may not take their names
+_RESERVED = {"fibre_id", "radius", "displacement", "g1", "g2"} | {
+    f"{kind}_{c}" for kind in ("strain", "stress") for c in _VOIGT}
 
 
 class Output:
@@ -25,25 +36,84 @@ class Output:
     ``every``: write the VTU of one step in ``every`` (results.json always).
     ``extra``: optional callable ``model -> dict`` of scalars to log per step
     (e.g. a reaction force for a load curve).
+    ``fibre_data``: {name: one integer or float per fibre, in the model's
+    fibre order}, written as point and cell arrays of every fibres .vtu
+    (e.g. ``{"yarn": fabric.fibre_yarn}``); ``"yarn"`` also colours the
+    pictures.
+    ``pictures``: ``"last"`` (default) draws the pictures when a stage ends
+    (load factor 1), when the run fails (its last converged state) and on
+    :meth:`finish`; ``True`` at every written step (files suffixed
+    ``_<step>``); ``False`` never.
+    ``yarn_directions``: per yarn id, ``"warp"``, ``"weft"`` or a 3-vector:
+    one cut picture per direction (``cut_warp.png``, ...); without it one
+    cut normal to the mean fibre direction. For a fabric,
+    ``Output(directory, **textile.io.fabric_labels(fabric))`` sets both.
+    ``picture_size``: (width, height) of the 3D pictures in pixels.
     """
 
-    def __init__(self, directory: str, every: int = 1, extra=None):
+    def __init__(self, directory: str, every: int = 1, extra=None, fibre_data=None,
+                 pictures="last", yarn_directions=None, picture_size=(1600, 1000)):
         """Contact elements, when the scene has contact, go to
         ``contacts_<step>.vtu`` (indexed by ``contacts.pvd``): one line per
         element between its two particles, with its normal force, gap,
         normal, tangential force and slip flag."""
         if not isinstance(every, int) or every < 1:
             raise ValueError(f"every must be a positive integer, got {every!r}")
+        if not (pictures is True or pictures is False or pictures == "last"):
+            raise ValueError(f"pictures must be True, False or 'last', got {pictures!r}")
         self.directory = directory
         self.every = every
         self.extra = extra
+        self.fibre_data = self._checked_fibre_data(fibre_data)
+        self.pictures = pictures
+        self.picture_size = tuple(picture_size)
+        self._yarn_axes = None
+        if yarn_directions is not None:
+            from .io.sample_pictures import yarn_axes
+            self._yarn_axes = yarn_axes(yarn_directions)
+            missing = set(np.unique(self.fibre_data.get("yarn", [])).tolist()) \
+                - set(self._yarn_axes)
+            if "yarn" not in self.fibre_data or missing:
+                raise ValueError("yarn_directions needs fibre_data['yarn'] and a direction for "
+                                 f"each of its yarns (missing: {sorted(missing)})")
         self._pvd = None
         self._contact_pvd = None
         self._log = None
+        self._last = None         # (step, centre lines, radii) of the last state, rank 0
+        self._drawn_step = None   # the step the "last" pictures show
+
+    @staticmethod
+    def _checked_fibre_data(fibre_data) -> dict:
+        if fibre_data is None:
+            return {}
+        if not isinstance(fibre_data, Mapping):
+            raise ValueError(f"fibre_data must be a dict name -> array (one value per fibre), "
+                             f"got {type(fibre_data).__name__}")
+        out = {}
+        for name, values in fibre_data.items():
+            if not isinstance(name, str) or not name or name in _RESERVED:
+                raise ValueError(f"fibre_data name {name!r} is empty, not a string, or one "
+                                 f"Output writes itself ({sorted(_RESERVED)})")
+            a = np.asarray(values)
+            if a.ndim != 1 or a.dtype.kind not in "biuf":
+                raise ValueError(f"fibre_data[{name!r}] must be a 1-D integer or float array "
+                                 f"(one value per fibre), got shape {a.shape} dtype {a.dtype}")
+            if a.dtype.kind == "f" and not np.all(np.isfinite(a)):
+                raise ValueError(f"fibre_data[{name!r}] has non-finite values")
+            out[name] = a.astype(np.int64) if a.dtype.kind in "bu" else a
+        return out
+
+    def _check_fibre_count(self, model) -> None:
+        n = len(model.mesh.fibres)
+        for name, a in self.fibre_data.items():
+            if len(a) != n:
+                raise ValueError(f"fibre_data[{name!r}] has {len(a)} values but the model has "
+                                 f"{n} fibres (one value per fibre, in the model's fibre order)")
 
     def _open(self, model) -> None:
         if self._log is not None:
             return
+        self._check_fibre_count(model)     # on every rank: all raise together
         if model.comm.rank == 0:
             os.makedirs(self.directory, exist_ok=True)
             self._pvd = PVDSeries(os.path.join(self.directory, "fibres.pvd"))
@@ -65,20 +135,24 @@ class Output:
         self._open(model)
         extra = self.extra(model) if self.extra else {}
         write_vtu = record.step % self.every == 0
-        q = model.nodal_unknowns() if write_vtu else None
+        # "last": the state is kept at every step, for the pictures of a failed run
+        q = model.nodal_unknowns() if write_vtu or self.pictures else None
         fields = self._segment_fields(model) if write_vtu else None
         contacts = self._contact_elements(model) if write_vtu else None
         if model.comm.rank != 0:
             return
         if contacts is not None and len(contacts["gap"]):
             self._write_contacts(record, contacts)
+        mesh = model.mesh
+        lines = None if q is None else \
+            [q[mesh.fibre_nodes(f), 0:3] for f in range(len(mesh.fibres))]
         if write_vtu:
-            mesh = model.mesh
-            lines = [q[mesh.fibre_nodes(f), 0:3] for f in range(len(mesh.fibres))]
+            counts = np.array([f.num_nodes for f in mesh.fibres])
             point_data = {"displacement": q[:, 0:3] - mesh.X_global[:, 0:3],
                           "g1": q[:, 3:6], "g2": q[:, 6:9],
-                          "radius": np.concatenate([np.full(f.num_nodes, f.radius)
-                                                    for f in mesh.fibres])}
+                          "radius": np.repeat([f.radius for f in mesh.fibres], counts)}
+            point_data.update({k: np.repeat(a, counts) for k, a in self.fibre_data.items()})
+            fields.update({k: np.repeat(a, counts - 1) for k, a in self.fibre_data.items()})
             name = f"fibres_{record.step:05d}.vtu"
             path = os.path.join(self.directory, name)
             write_fibres_vtu(path, lines, point_data=point_data, cell_data=fields)
@@ -93,6 +167,12 @@ class Output:
                               **{f"residual_{k}": v for k, v in record.residuals.items()},
                               **record.stability,
                               **record.effects, **extra))
+        if self.pictures:
+            self._last = (record.step, lines, [f.radius for f in mesh.fibres])
+        if self.pictures is True and write_vtu:
+            self._draw(f"_{record.step:05d}")
+        elif self.pictures == "last" and record.load_factor >= 1.0 - 1e-12:
+            self._draw()
 
     def _contact_elements(self, model) -> dict | None:
         """All ranks' contact elements gathered on rank 0 (None without contact)."""
@@ -138,9 +218,49 @@ class Output:
         return out
 
     def failure(self, message: str) -> None:
-        """Record why a run stopped (kept in results.json's meta)."""
+        """Record why a run stopped (kept in results.json's meta), then draw
+        the pictures of the last converged state ("last")."""
         if self._log:
             self._log.set_meta(failure=message)
+            if self.pictures == "last":
+                self._draw()
+
+    def finish(self, model) -> None:
+        """Draw the pictures of the model's current state now (every rank
+        must call: the state is gathered), e.g. after ``solver.solve(t)``
+        stopped inside a stage. Written steps and results are not touched."""
+        self._open(model)
+        q = model.nodal_unknowns()
+        if model.comm.rank != 0 or not self.pictures:
+            return
+        mesh = model.mesh
+        lines = [q[mesh.fibre_nodes(f), 0:3] for f in range(len(mesh.fibres))]
+        step = self._last[0] if self._last else 0
+        self._last = (step, lines, [f.radius for f in mesh.fibres])
+        self._drawn_step = None
+        self._draw()
+
+    def _draw(self, suffix: str = "") -> None:
+        """Pictures of the kept state (rank 0); failures are warnings."""
+        if self._last is None or (not suffix and self._drawn_step == self._last[0]):
+            return
+        from .io.render import RenderingWarning
+        from .io.sample_pictures import draw_sample_pictures
+        step, lines, radii = self._last
+        try:
+            drawn, errors = draw_sample_pictures(self.directory, lines, radii,
+                                                 self.fibre_data.get("yarn"), self._yarn_axes,
+                                                 suffix, self.picture_size)
+        except Exception as e:    # a picture must never cost the results
+            drawn, errors = {}, [f"{type(e).__name__}: {e}"]
+        if not suffix:
+            self._drawn_step = step
+        self._log.set_meta(pictures={**self._log.meta.get("pictures", {}),
+                                     **{k: dict(step=step, drawn_by=v) for k, v in drawn.items()}})
+        for error in errors:
+            message = f"picture not drawn: {error}"
+            warnings.warn(message, RenderingWarning, stacklevel=2)
+            self.warning(message)
 
     def warning(self, message: str) -> None:
         """Record a warning of the run (results.json meta ``warnings``)."""

@@ -4,26 +4,33 @@
   (``.vtu``) polylines, and ParaView ``.pvd`` time-series collections.
 - :mod:`textile.io.results`: per-step result records in JSON (+ CSV export).
 - :mod:`textile.io.plots`: headless PNG plots of fibres and load curves.
+- :mod:`textile.io.render`: pictures of a sample: fibres as tubes of their
+  true radius (VTK, off-screen; matplotlib fallback) and cross-sections;
+  :mod:`textile.io.sample_pictures`: the ones :class:`textile.Output` draws.
 
 All writers replace their files atomically and are serial: call them on MPI
 rank 0 with already-gathered data.
 
-The plotting functions are imported lazily so that ``import textile.io`` does
-not pay for importing matplotlib unless a plot is actually made.
+The plotting and rendering functions are imported lazily so that
+``import textile.io`` does not pay for importing matplotlib unless a
+picture is actually made.
 """
 
 from textile.io.results import ResultsLog
 from textile.io.vtu import PVDSeries, write_fibres_vtu
 
-__all__ = ["PVDSeries", "ResultsLog", "plot_curve", "plot_fibres", "write_fibres_vtu"]
+# name -> module that defines it, imported on first access (PEP 562)
+_LAZY = {"plot_curve": "plots", "plot_fibres": "plots",
+         "RenderingUnavailable": "render", "RenderingWarning": "render",
+         "render_cross_section_png": "render", "render_fibres_png": "render",
+         "sketch_fibres_png": "render", "fabric_labels": "sample_pictures"}
 
-_LAZY = {"plot_curve", "plot_fibres"}
+__all__ = ["PVDSeries", "ResultsLog", "write_fibres_vtu", *_LAZY]
 
 
 def __getattr__(name: str):
-    """Import the plotting functions on first access (PEP 562)."""
     if name in _LAZY:
-        from textile.io import plots
+        import importlib
 
-        return getattr(plots, name)
+        return getattr(importlib.import_module(f"textile.io.{_LAZY[name]}"), name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
