@@ -31,7 +31,7 @@ def test_force_beyond_the_limit_point_fails_cleanly(tmp_path):
     converged steps on disk, and write no NaN."""
     fib, model, EA = bar()
     model.add_force(fib, -1, [-0.3 * EA, 0, 0])
-    out = textile.Output(str(tmp_path))
+    out = textile.Output(str(tmp_path), pictures=False)
     solver = textile.Solver(model, dict(initial_step=0.25, max_step=0.25, min_step=1e-3, **QUIET),
                             output=out)
     with pytest.raises(textile.ConvergenceError, match="did not converge"):

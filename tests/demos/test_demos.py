@@ -18,6 +18,8 @@ CASES = [
                                                      "load_rotation.png"]),
     ("demo_twisted_pair.py", ["--elements", "12"], ["fibres.pvd", "contacts.pvd",
                                                     "results.json"]),
+    ("render_weave_start.py", [], ["sample.png", "sample_top.png", "cut_warp.png",
+                                   "cut_weft.png"]),
 ]
 
 
@@ -36,5 +38,6 @@ def test_demo_runs(name, args, outputs, tmp_path_factory):
     if comm.rank == 0:
         for f in outputs:
             assert os.path.getsize(os.path.join(out, f)) > 0, f
-        steps = json.load(open(os.path.join(out, "results.json")))["steps"]
-        assert steps and "failure" not in json.load(open(os.path.join(out, "results.json")))["meta"]
+        if "results.json" in outputs:  # the demo solved something
+            results = json.load(open(os.path.join(out, "results.json")))
+            assert results["steps"] and "failure" not in results["meta"]

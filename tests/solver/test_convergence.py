@@ -48,7 +48,7 @@ def test_steps_at_the_round_off_floor_converge(n, dt, t_end):
 
 def test_groups_are_reported_per_step(tmp_path):
     fib, model = column(8)
-    out = textile.Output(str(tmp_path))
+    out = textile.Output(str(tmp_path), pictures=False)
     solver = textile.Solver(model, dict(verbose=False), output=out)
     solver.solve(0.2)
     rec = solver.history[-1]

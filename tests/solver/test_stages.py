@@ -24,7 +24,7 @@ def cantilever():
 def test_hold_a_force_while_a_displacement_ramps_then_release(tmp_path):
     fib, model, force = cantilever()
     pull = model.fix(fib, -1, "x", 1e-4)  # a stretch, reached in the first stage
-    out = textile.Output(str(tmp_path))
+    out = textile.Output(str(tmp_path), pictures=False)
     solver = textile.Solver(model, dict(initial_step=0.25, max_step=0.5, verbose=False),
                             output=out)
     tension = []

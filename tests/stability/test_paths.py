@@ -45,7 +45,8 @@ def test_unstable_branch_is_reported(out, dt):
     equilibrium. It must be recorded per step and warned about once."""
     fib, model = column()
     solver = textile.Solver(model, dict(initial_step=dt, max_step=dt, verbose=False,
-                                        branch_switching=False), output=textile.Output(out))
+                                        branch_switching=False),
+                            output=textile.Output(out, pictures=False))
     with pytest.warns(StabilityWarning, match="stability lost at t=.*negative eigenvalue"):
         solver.solve()
     data = guard.clean_output(out, solver)
@@ -67,7 +68,8 @@ def test_branch_switching_follows_the_buckled_column(out, dt):
     on the elastica."""
     fib, model = column()
     solver = textile.Solver(model, dict(initial_step=dt, max_step=dt, verbose=False,
-                                        branch_switching=True), output=textile.Output(out))
+                                        branch_switching=True),
+                            output=textile.Output(out, pictures=False))
     with warnings.catch_warnings():
         warnings.simplefilter("error", StabilityWarning)  # never unstable
         solver.solve()
@@ -97,7 +99,7 @@ def test_force_past_the_limit_point_is_named(out):
     fib, model, EA = bar()
     model.add_force(fib, -1, [-0.3 * EA, 0, 0])
     solver = textile.Solver(model, dict(initial_step=0.25, max_step=0.25, min_step=1e-3,
-                                        verbose=False), output=textile.Output(out))
+                                        verbose=False), output=textile.Output(out, pictures=False))
     with pytest.raises(textile.ConvergenceError, match="DIVERGED_MAX_IT.*limit point"):
         solver.solve()
     guard.clean_output(out, solver, failed="limit point")
@@ -113,7 +115,8 @@ def test_displacement_past_the_limit_point_is_flagged(out):
     fib, model, EA = bar(elements=4)
     model.fix(fib, -1, "x", -0.6 * 0.05)
     solver = textile.Solver(model, dict(initial_step=0.05, max_step=0.05, verbose=False,
-                                        branch_switching=False), output=textile.Output(out))
+                                        branch_switching=False),
+                            output=textile.Output(out, pictures=False))
     with pytest.warns(StabilityWarning, match="limit point"):
         solver.solve()
     data = guard.clean_output(out, solver)

@@ -1,0 +1,84 @@
+"""The weaving computation: straight, interpenetrating yarns become a fabric
+that follows its pattern (METHOD.md section 5)."""
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+import textile
+from textile import fabric_measures as fm
+from textile.fabric import Fabric
+from textile.weaving import Weaving
+from textile.yarn import Yarn
+
+R = 0.1e-3
+MAT = textile.Material(5.0e9, 0.35)
+
+
+def woven(num, fibres, pattern="plain", spacing=2.0, comm=MPI.COMM_SELF, **kwargs):
+    yarn = Yarn(fibres, R, MAT)
+    fab = Fabric(yarn, num_warp=num, num_weft=num, spacing=spacing * yarn.width,
+                 pattern=pattern, elements_per_crossing=4)
+    w = Weaving(fab, comm=comm, **kwargs)
+    solver = w.run(solver_options=dict(verbose=False))
+    return w, solver
+
+
+def check_woven(w):
+    """Every crossing in pattern order, no deep penetration, crimp > 0."""
+    s = w.summary()
+    sep = fm.crossing_separation(w.fabric, w.model)
+    # every fibre of the upper yarn above every fibre of the lower one, by
+    # at least most of a fibre diameter (the centre lines; touching fibres
+    # are 2 R apart)
+    assert sep.min() > R, sep
+    # the acceptance bound of the weaving issue: penetration <= 10% of R
+    assert s["max penetration / radius"] <= 0.1
+    c = fm.crimp(w.fabric, w.model)
+    assert np.all(c > 0), c
+    return s
+
+
+def test_plain_weave_2x2_follows_its_pattern():
+    w, solver = woven(2, 3)
+    s = check_woven(w)
+    stages = [h.stage for h in solver.history]
+    assert stages.count("weaving") == 5 and stages[-1] == "relaxation"
+    # a balanced plain weave: warp and weft crimp within 5%
+    assert s["warp crimp"] == pytest.approx(s["weft crimp"], rel=0.05)
+
+
+def test_twill_2_2_follows_its_pattern():
+    w, _ = woven(4, 1, pattern="twill 2/2")
+    check_woven(w)
+
+
+def test_plain_weave_3x3_follows_its_pattern():
+    w, _ = woven(3, 1)
+    check_woven(w)
+
+
+def test_crimp_rises_as_the_spacing_shrinks():
+    crimps = []
+    for spacing in (3.0, 2.0, 1.5):
+        w, _ = woven(2, 1, spacing=spacing)
+        check_woven(w)
+        crimps.append(fm.crimp(w.fabric, w.model).mean())
+    assert crimps[0] < crimps[1] < crimps[2], crimps
+
+
+def test_bad_weaving_options():
+    fab = Fabric(Yarn(1, R, MAT), spacing=10 * R)
+    with pytest.raises(ValueError, match="steps must be an integer >= 1"):
+        Weaving(fab, steps=0, comm=MPI.COMM_SELF)
+    with pytest.raises(ValueError, match="tension is an axial strain"):
+        Weaving(fab, tension=-1.0, comm=MPI.COMM_SELF)
+    with pytest.raises(TypeError, match="fabric must be a textile.fabric.Fabric"):
+        Weaving("plain", comm=MPI.COMM_SELF)
+
+
+@pytest.mark.mpi
+def test_crimp_is_the_same_on_every_rank_count():
+    # the 2 x 2 weave on COMM_WORLD (1 or 2 ranks) against one rank
+    w1, _ = woven(2, 3, comm=MPI.COMM_SELF)
+    wn, _ = woven(2, 3, comm=MPI.COMM_WORLD)
+    assert np.abs(fm.crimp(wn.fabric, wn.model) - fm.crimp(w1.fabric, w1.model)).max() < 1e-8
