@@ -97,7 +97,8 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
     const Eigen::Vector3d previous_normal = from ? from->normal : Eigen::Vector3d::Zero();
     const Eigen::Vector3d normal = contact_normal(p.tangent_i, p.tangent_j, p.tangent,
                                                   p.centroid_gap, previous_normal,
-                                                  par.parallel_angle);
+                                                  par.parallel_angle, p.crossing,
+                                                  c.radius[p.fibre_i] + c.radius[p.fibre_j]);
     const Eigen::Vector3d slip = from ? old.elastic_slip(*from) : Eigen::Vector3d::Zero();
     elements.push_back(make_element(c, p, z, normal, from ? from->penalty : par.penalty,
                                     par.regularization, par.friction, slip, q));

@@ -136,7 +136,7 @@ Eigen::Vector2d border_particle(const Eigen::Vector3d& g1, const Eigen::Vector3d
   Eigen::Vector2d cvec = G.ldlt().solve(rhs);
   const double n = cvec.norm();
   if (!(n > 0) or !std::isfinite(n))
-    throw std::runtime_error("border_particle: direction orthogonal to the section plane");
+    throw GeometryError("border_particle: direction orthogonal to the section plane");
   return R * cvec / n;
 }
 
