@@ -1,12 +1,14 @@
 // The normal of a contact element: crossing normal only where centre lines
 // really cross, the centroid direction side by side (stability issue item 7).
 #include <textile/contact/contact_normal.h>
+#include <textile/contact/weaving_order.h>
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 using namespace textile::contact;
 using Vec3 = Eigen::Vector3d;
@@ -74,4 +76,24 @@ TEST(ContactNormal, PreviousOrthogonalNormalDoesNotOrient)
   const Vec3 N = contact_normal(ti, tj, t, d, Vec3(0, 0, 1), parallel_angle, false,
                                 contact_distance);
   EXPECT_NEAR(N.dot(d.normalized()), 1.0, 1e-12);
+}
+
+TEST(WeavingOrder, VerticalNormalFromTheOrder)
+{
+  // fibres 0, 1 in yarn 0 (warp), fibre 2 in yarn 1 (weft), weft on top
+  const WeavingOrder order({0, 0, 1}, {0, -1, 1, 0}, 2);
+  EXPECT_EQ(order.sign(2, 0), 1);  // fibre 2 above fibre 0: N = +z from 0 to 2
+  EXPECT_EQ(order.sign(0, 2), -1);
+  EXPECT_EQ(order.sign(0, 1), 0);  // one yarn: no order
+  EXPECT_EQ(order.normal(0, 2), Vec3(0, 0, -1));
+  EXPECT_EQ(order.normal(1, 0), Vec3::Zero());
+}
+
+TEST(WeavingOrder, RejectsInconsistentOrders)
+{
+  EXPECT_THROW(WeavingOrder({0, 1}, {0, 1, 1, 0}, 2), std::invalid_argument);  // not antisymmetric
+  EXPECT_THROW(WeavingOrder({0, 1}, {0, 2, -2, 0}, 2), std::invalid_argument); // not -1, 0, 1
+  EXPECT_THROW(WeavingOrder({0, 2}, {0, 1, -1, 0}, 2), std::invalid_argument); // yarn 2 of 2
+  EXPECT_THROW(WeavingOrder({0, 1}, {0, 1, -1}, 2), std::invalid_argument);    // size
+  EXPECT_THROW(WeavingOrder({0, 1}, {0, 1, -1, 0}, 2).sign(0, 2), std::invalid_argument);
 }
