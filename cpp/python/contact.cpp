@@ -143,6 +143,25 @@ void declare_contact(py::module_& m)
       py::arg("parallel_angle"),
       "One detection pass on the current nodal unknowns q (nodes x 9): a Detection.");
 
+  py::class_<WeavingOrder>(m, "WeavingOrder",
+                           "Crossing order of the weaving stage: fibre -> yarn, and "
+                           "yarn_above[a, b] = +1 (a above b), -1 (below), 0 (no order).")
+      .def(py::init(
+               [](const carray<int>& fibre_yarn, const carray<std::int8_t>& above)
+               {
+                 if (above.ndim() != 2 or above.shape(0) != above.shape(1))
+                   throw std::invalid_argument("WeavingOrder: yarn_above must be square");
+                 return WeavingOrder(std::vector<int>(fibre_yarn.data(),
+                                                      fibre_yarn.data() + fibre_yarn.size()),
+                                     std::vector<std::int8_t>(above.data(),
+                                                              above.data() + above.size()),
+                                     static_cast<int>(above.shape(0)));
+               }),
+           py::arg("fibre_yarn"), py::arg("yarn_above"))
+      .def_property_readonly("num_fibres", &WeavingOrder::num_fibres)
+      .def_property_readonly("num_yarns", &WeavingOrder::num_yarns)
+      .def("sign", &WeavingOrder::sign, py::arg("fibre_i"), py::arg("fibre_j"));
+
   py::class_<PenaltyAdaptation>(m, "PenaltyAdaptation")
       .def(py::init(
                [](double target, double regularization, double band_low, double retune_high,
@@ -186,11 +205,12 @@ void declare_contact(py::module_& m)
           [](const ContactSet& self, const Detection& found, const carray<double>& q,
              const carray<std::int64_t>& first_node, int order, const carray<double>& radius,
              double penalty, double g_r, double mu, double u_rev, double parallel_angle,
-             std::pair<std::int64_t, std::int64_t> owned)
+             std::pair<std::int64_t, std::int64_t> owned, const WeavingOrder* weaving,
+             bool reset_normals)
           {
             Geometry geo(q, first_node, order, radius);
-            const ElementParameters par{penalty, g_r, RegularizedCoulomb{mu, u_rev},
-                                        parallel_angle};
+            const ElementParameters par{penalty,        g_r,     RegularizedCoulomb{mu, u_rev},
+                                        parallel_angle, weaving, reset_normals};
             auto [set, zones] = next_contact_set(self, found, geo.lines, cspan(q), par, owned);
             py::dict inherited;
             inherited["penalty"] = array_of(zones.penalty);
@@ -201,9 +221,12 @@ void declare_contact(py::module_& m)
           },
           py::arg("found"), py::arg("q"), py::arg("first_node"), py::arg("order"),
           py::arg("radius"), py::arg("penalty"), py::arg("g_r"), py::arg("mu"), py::arg("u_rev"),
-          py::arg("parallel_angle"), py::arg("owned"),
+          py::arg("parallel_angle"), py::arg("owned"), py::arg("weaving") = nullptr,
+          py::arg("reset_normals") = false,
           "The set of detection pass `found` with history from this one (evaluated by this "
-          "rank: first node on fibre i in `owned`), and what each new zone inherits.")
+          "rank: first node on fibre i in `owned`), and what each new zone inherits. "
+          "`weaving`: a WeavingOrder whose ordered pairs take the vertical normal; "
+          "`reset_normals`: set normals from the geometry, not from the old elements.")
       .def("take_layout", &ContactSet::take_layout, py::arg("previous"),
            "Take over previous's assembly layout if it couples the same nodes.")
       .def("set_zone_penalties", [](ContactSet& self, const carray<double>& k)

@@ -18,6 +18,14 @@ detection pass, so every rank agrees on them):
   a zone penetrates beyond the band (emergency retune, counted);
 - ``commit`` (step accepted): friction return mapping (stick points).
 
+Modes (``configure``, e.g. from a :class:`textile.Stage`): ``"ordinary"``
+(the default) and ``"weaving"`` (METHOD.md section 5): elements between
+fibres of two yarns with a crossing order take the vertical as normal,
+oriented by that order (``weaving_order.h``; build the order of a fabric
+with :func:`textile.effects.weaving_contact.weaving_mode`). When the mode
+changes, the next step sets every normal from the geometry (or the order)
+again; zone penalties and stick points carry over.
+
 Units: lengths in the model's unit. Penalties are per unit length of
 contact (force/length^2): a line contact of penetration p carries
 k_c phi(p) per unit length, whatever the element spacing; a crossing stands
@@ -150,11 +158,54 @@ class FibreContact(Effect):
         """Frictionless contact derives from a potential at fixed normals."""
         return self.options.friction == 0
 
+    MODES = ("ordinary", "weaving")
+
     def __init__(self, options: ContactOptions | dict | None = None):
         self.options = options if isinstance(options, ContactOptions) \
             else ContactOptions.from_dict(options)
         self.set = None
         self._committed = None
+        self.mode = "ordinary"
+        self._order = None           # _cpp.WeavingOrder of the weaving mode
+        self._reset_normals = False  # the mode changed: normals from the geometry again
+
+    # -- stage options ---------------------------------------------------------
+    def configure(self, mode: str | None = None, fibre_yarn=None, yarn_above=None,
+                  **unknown) -> None:
+        """Stage options: ``mode="ordinary"``, or ``mode="weaving"`` with
+        ``fibre_yarn`` (yarn of each fibre, in the model's fibre order) and
+        ``yarn_above`` ((yarns, yarns): +1 if yarn a lies above yarn b at
+        their crossing, -1 below, 0 no order; antisymmetric). In weaving
+        mode a contact element between fibres of two ordered yarns has the
+        normal sign * e_z (from fibre j to fibre i), so a fibre of the upper
+        yarn below one of the lower yarn has a negative gap wherever it is."""
+        if unknown:
+            raise ValueError(f"FibreContact.configure: unknown option(s) {sorted(unknown)}; "
+                             f"allowed: mode, fibre_yarn, yarn_above")
+        mode = self.mode if mode is None else mode
+        if mode not in self.MODES:
+            raise ValueError(f"FibreContact: mode must be one of {self.MODES}, got {mode!r}")
+        if mode == "weaving":
+            if fibre_yarn is None or yarn_above is None:
+                raise ValueError("FibreContact: mode='weaving' needs fibre_yarn and yarn_above "
+                                 "(textile.effects.weaving_contact.weaving_mode(fabric))")
+            self._order = _cpp.WeavingOrder(np.asarray(fibre_yarn, dtype=np.intc),
+                                            np.asarray(yarn_above, dtype=np.int8))
+            self._check_order()
+        elif fibre_yarn is not None or yarn_above is not None:
+            raise ValueError("FibreContact: fibre_yarn and yarn_above go with mode='weaving'")
+        else:
+            self._order = None
+        if mode != self.mode:
+            self._reset_normals = True
+        self.mode = mode
+
+    def _check_order(self) -> None:
+        model = getattr(self, "model", None)
+        if self._order is not None and model is not None \
+                and self._order.num_fibres != len(model.mesh.fibres):
+            raise ValueError(f"FibreContact: fibre_yarn names {self._order.num_fibres} fibres, "
+                             f"the model has {len(model.mesh.fibres)}")
 
     # -- set-up ------------------------------------------------------------
     def setup(self, model) -> None:
@@ -193,6 +244,7 @@ class FibreContact(Effect):
         self.emergency_retunes = 0
         self.retuned_zones = 0
         self.penalty_conversions = 0
+        self._check_order()
 
     # -- detection and history -----------------------------------------------
     def _detect(self, q: np.ndarray):
@@ -206,7 +258,7 @@ class FibreContact(Effect):
             self._timing[k] += v
         self.set = new
 
-    def _rebuild(self, q: np.ndarray) -> bool:
+    def _rebuild(self, q: np.ndarray, reset_normals: bool = False) -> bool:
         """Detect, carry history, set normals and zone penalties; True if
         the contact forces at q changed beyond update_tolerance."""
         o, mesh, comm = self.options, self.model.mesh, self.model.comm
@@ -216,7 +268,9 @@ class FibreContact(Effect):
         before = old.nodal_forces(q)
         new, inherited = old.next(found, q, mesh.first_node, mesh.order, self.radius, self.k0,
                                   self.g_r, o.friction, self.u_rev,
-                                  math.radians(o.parallel_angle), mesh.owned)
+                                  math.radians(o.parallel_angle), mesh.owned,
+                                  self._order if self.mode == "weaving" else None,
+                                  reset_normals)
         self._carry_zone_penalties(new, old, inherited, q)
         new.evaluate(q)
         new.take_layout(old)  # usually the same nodes: no new assembly layout
@@ -288,7 +342,8 @@ class FibreContact(Effect):
         self.updates = 0
         self.emergency_retunes = 0
         self.penalty_conversions = 0
-        self._rebuild(model.beam_positions(model.state()))
+        # after a mode change, every attempt's first pass sets normals anew
+        self._rebuild(model.beam_positions(model.state()), reset_normals=self._reset_normals)
 
     def update(self, model) -> bool:
         self.updates += 1
@@ -300,6 +355,7 @@ class FibreContact(Effect):
         return changed or emergency > 0
 
     def commit(self, model) -> None:
+        self._reset_normals = False
         self.set.commit()
         self._committed = self.set.copy()
         self._statistics(model)
@@ -325,6 +381,10 @@ class FibreContact(Effect):
         radius = np.minimum(self.radius[d["fibre_i"]], self.radius[d["fibre_j"]]) \
             if len(d["fibre_i"]) else np.zeros(0)
         pen = np.max(-d["gap"][active] / radius[active]) if np.any(active) else 0.0
+        # centre lines on the wrong side of each other along the normal
+        # (N . (x0_i - x0_j) = gap + h_i + h_j < 0, h about the radius)
+        crossed = d["gap"] < -(self.radius[d["fibre_i"]] + self.radius[d["fibre_j"]]) \
+            if len(d["gap"]) else np.zeros(0, dtype=bool)
         # penetration band: each active zone's largest penetration / target
         _, zone_pen = self._zone_state() if self.set.num_zones else (None, np.zeros(0))
         ratio = zone_pen[zone_pen > 0] / self.adaptation.target
@@ -346,6 +406,7 @@ class FibreContact(Effect):
             retuned_zones=int(self.retuned_zones),
             emergency_retunes=int(self.emergency_retunes),
             penalty_conversions=int(self.penalty_conversions),
+            crossed_contacts=int(comm.allreduce(int(crossed.sum()))),
         )
 
     def statistics(self) -> dict:

@@ -4,26 +4,43 @@
 
 namespace textile::contact
 {
+namespace
+{
+/// |cos| between a new normal and the previous one below which the previous
+/// one says nothing about the side (the normal changed kind, e.g. from the
+/// crossing normal to an in-plane one): the centroid gap orients it then.
+constexpr double orientation_cosine = 0.1;
+
+/// The centroid gap without its component along the intermediate tangent,
+/// or, when the centroids lie on one line along the fibres, the previous
+/// normal (or any direction) orthogonal to the tangent.
+Eigen::Vector3d centroid_direction(const Eigen::Vector3d& t, const Eigen::Vector3d& d,
+                                   const Eigen::Vector3d& previous)
+{
+  const Eigen::Vector3d N = d - d.dot(t) * t;
+  if (N.norm() > 1e-14 * (d.norm() + 1e-300))
+    return N;
+  return previous.norm() > 0 ? Eigen::Vector3d(previous - previous.dot(t) * t)
+                             : Eigen::Vector3d(t.unitOrthogonal());
+}
+} // namespace
+
 Eigen::Vector3d contact_normal(const Eigen::Vector3d& ti, const Eigen::Vector3d& tj,
                                const Eigen::Vector3d& t, const Eigen::Vector3d& d,
-                               const Eigen::Vector3d& previous, double parallel_angle)
+                               const Eigen::Vector3d& previous, double parallel_angle,
+                               bool crossing, double contact_distance)
 {
   Eigen::Vector3d N = ti.cross(tj);
   const double sin_angle = N.norm();
-  if (sin_angle <= std::sin(parallel_angle))
-  {
-    // near-parallel: centroid gap without its component along the fibres
-    N = d - d.dot(t) * t;
-    if (N.norm() <= 1e-14 * (d.norm() + 1e-300))
-    {
-      // centroids on one line along the fibres: keep the previous normal
-      // if there is one, else any direction orthogonal to the tangent
-      N = previous.norm() > 0 ? Eigen::Vector3d(previous - previous.dot(t) * t)
-                              : Eigen::Vector3d(t.unitOrthogonal());
-    }
-  }
+  const bool lie_on_each_other
+      = sin_angle > std::sin(parallel_angle)
+        and (crossing or std::abs(d.dot(N)) >= crossing_separation * contact_distance * sin_angle);
+  if (!lie_on_each_other)
+    N = centroid_direction(t, d, previous);
   N.normalize();
-  const Eigen::Vector3d& side = previous.norm() > 0 ? previous : d;
+  const bool previous_tells = previous.norm() > 0
+                              and std::abs(N.dot(previous)) > orientation_cosine * previous.norm();
+  const Eigen::Vector3d& side = previous_tells ? previous : d;
   if (N.dot(side) < 0)
     N = -N;
   return N;

@@ -6,24 +6,38 @@
 namespace textile::contact
 {
 
+/// Out-of-plane separation of the centre lines, in units of the contact
+/// distance r_i + r_j, from which two fibres at an angle are taken to lie on
+/// each other (crossing normal) rather than side by side in one plane.
+inline constexpr double crossing_separation = 0.5;
+
 /// Unit normal N of the plane that shields particle i from particle j,
 /// pointing from fibre j towards fibre i (so gap = N . (x_i - x_j)).
 ///
-/// Crossing fibres (angle between the tangents above `parallel_angle`,
-/// radians): N = +-(t_i x t_j)/|t_i x t_j|, the direction in which the two
-/// centre lines cannot pass each other. Near-parallel fibres: the
-/// centroid-to-centroid direction orthogonal to the intermediate tangent.
-/// Orientation: along `previous` when given (non-zero), so that a normal
-/// once set keeps the side each fibre is on even under deep penetration;
-/// otherwise along the centroid gap x0_i - x0_j.
+/// Crossing normal N = +-(t_i x t_j)/|t_i x t_j|, the direction in which two
+/// crossing centre lines cannot pass each other, only where the centre
+/// lines really cross: the tangents make an angle above `parallel_angle`
+/// (radians) AND either the element is a crossing zone's (`crossing`) or
+/// the centroid gap along t_i x t_j is at least crossing_separation x
+/// `contact_distance` (the fibres lie on each other). Elsewhere (near-
+/// parallel fibres, and fibres diverging side by side in one plane, whose
+/// centroid gap has no component along t_i x t_j: that normal would read a
+/// penetration of r_i + r_j that is not there) N is the centroid-to-centroid
+/// direction orthogonal to the intermediate tangent.
+/// Orientation: along `previous` when given and not orthogonal to N, so
+/// that a normal once set keeps the side each fibre is on even under deep
+/// penetration; otherwise along the centroid gap x0_i - x0_j.
 ///
 /// @param tangent_i, tangent_j  unit tangents of the centre lines
 /// @param tangent               unit intermediate tangent
 /// @param centroid_gap          x0_i - x0_j at the element's sections
 /// @param previous              the element's last normal, or zero
+/// @param crossing              the element is a crossing zone's single element
+/// @param contact_distance      r_i + r_j (length)
 Eigen::Vector3d contact_normal(const Eigen::Vector3d& tangent_i, const Eigen::Vector3d& tangent_j,
                                const Eigen::Vector3d& tangent,
                                const Eigen::Vector3d& centroid_gap,
-                               const Eigen::Vector3d& previous, double parallel_angle);
+                               const Eigen::Vector3d& previous, double parallel_angle,
+                               bool crossing, double contact_distance);
 
 } // namespace textile::contact

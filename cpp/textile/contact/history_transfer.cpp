@@ -79,7 +79,7 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
   std::vector<ContactElementState> elements;
   for (std::size_t k = 0; k < d.points.size(); ++k)
   {
-    const ContactPoint& p = d.points[k];
+    ContactPoint p = d.points[k];
     const int z = d.zone_of_point[k];
     const ContactElementState* from = match[k] >= 0 ? &previous[match[k]] : nullptr;
     if (from)
@@ -94,10 +94,19 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
     // each element is evaluated by the rank owning its first node on fibre i
     if (nodes[0] < owned.first or nodes[0] >= owned.second)
       continue;
-    const Eigen::Vector3d previous_normal = from ? from->normal : Eigen::Vector3d::Zero();
-    const Eigen::Vector3d normal = contact_normal(p.tangent_i, p.tangent_j, p.tangent,
-                                                  p.centroid_gap, previous_normal,
-                                                  par.parallel_angle);
+    const Eigen::Vector3d previous_normal
+        = from and !par.reset_normals ? from->normal : Eigen::Vector3d::Zero();
+    const int order = par.weaving ? par.weaving->sign(p.fibre_i, p.fibre_j) : 0;
+    Eigen::Vector3d normal;
+    if (order != 0)
+    {
+      normal = order * Eigen::Vector3d::UnitZ();
+      place_particles(c, SectionVectors{q, 9, 3}, p, -normal);
+    }
+    else
+      normal = contact_normal(p.tangent_i, p.tangent_j, p.tangent, p.centroid_gap,
+                              previous_normal, par.parallel_angle, p.crossing,
+                              c.radius[p.fibre_i] + c.radius[p.fibre_j]);
     const Eigen::Vector3d slip = from ? old.elastic_slip(*from) : Eigen::Vector3d::Zero();
     elements.push_back(make_element(c, p, z, normal, from ? from->penalty : par.penalty,
                                     par.regularization, par.friction, slip, q));

@@ -11,6 +11,7 @@
 
 #include "contact_set.h"
 #include "detection.h"
+#include "weaving_order.h"
 
 #include <climits>
 #include <cstdint>
@@ -54,10 +55,18 @@ struct ElementParameters
   double regularization = 0;  ///< g_r (length)
   RegularizedCoulomb friction;
   double parallel_angle = 0;  ///< radians, for the normals (contact_normal)
+  /// The weaving stage's crossing order (weaving_order.h): pairs of fibres
+  /// of ordered yarns take the vertical normal it gives; nullptr: none.
+  const WeavingOrder* weaving = nullptr;
+  /// Ignore the old elements' normals (the contact mode changed): normals
+  /// are set from the geometry again; penalties and stick points carry.
+  bool reset_normals = false;
 };
 
 /// The contact set of detection pass d at state q (all nodes, 9 unknowns
-/// each), with history from `old`: this rank's elements only, those whose
+/// each), with history from `old` (normals: the weaving order's for pairs
+/// it orders, with particles facing each other vertically; else
+/// contact_normal): this rank's elements only, those whose
 /// first node on fibre i lies in [owned.first, owned.second). The penalty
 /// of an element is its match's, or par.penalty; callers make it one per
 /// zone (ContactSet::set_zone_penalties) from the reduced inheritance,

@@ -79,7 +79,7 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> SectionVectors::at(const Centrelines
   Eigen::Vector3d g1 = Eigen::Vector3d::Zero(), g2 = Eigen::Vector3d::Zero();
   for (int a = 0; a <= c.order; ++a)
   {
-    const std::size_t k = 6 * nodes[a];
+    const std::size_t k = stride * nodes[a] + offset;
     g1 += n[a] * Eigen::Map<const Eigen::Vector3d>(g.data() + k);
     g2 += n[a] * Eigen::Map<const Eigen::Vector3d>(g.data() + k + 3);
   }
@@ -136,8 +136,21 @@ Eigen::Vector2d border_particle(const Eigen::Vector3d& g1, const Eigen::Vector3d
   Eigen::Vector2d cvec = G.ldlt().solve(rhs);
   const double n = cvec.norm();
   if (!(n > 0) or !std::isfinite(n))
-    throw std::runtime_error("border_particle: direction orthogonal to the section plane");
+    throw GeometryError("border_particle: direction orthogonal to the section plane");
   return R * cvec / n;
+}
+
+void place_particles(const Centrelines& c, const SectionVectors& g, ContactPoint& p,
+                     const Eigen::Vector3d& towards_j)
+{
+  const auto [g1i, g2i] = g.at(c, p.fibre_i, p.s_i);
+  const auto [g1j, g2j] = g.at(c, p.fibre_j, p.s_j);
+  const Eigen::Vector2d qi = border_particle(g1i, g2i, c.radius[p.fibre_i], towards_j);
+  const Eigen::Vector2d qj = border_particle(g1j, g2j, c.radius[p.fibre_j], -towards_j);
+  p.xi1_i = qi(0);
+  p.xi2_i = qi(1);
+  p.xi1_j = qj(0);
+  p.xi2_j = qj(1);
 }
 
 std::pair<double, double> closest_points(const Centrelines& c, int f, double s, int g, double t)
@@ -290,20 +303,13 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
       if (d.norm() == 0)
         d = p.tangent.unitOrthogonal();
     }
-    const auto [g1i, g2i] = g.at(c, z.fibre_i, p.s_i);
-    const auto [g1j, g2j] = g.at(c, z.fibre_j, p.s_j);
     // End caps are excluded: where the centroid gap runs along a fibre's
     // axis (a fibre end pushed head-on into another fibre) the section
     // border has no point facing the other fibre, so no element is made.
     if (std::abs(d.dot(p.tangent_i)) > end_cap_cosine * d.norm()
         or std::abs(d.dot(p.tangent_j)) > end_cap_cosine * d.norm())
       continue;
-    const Eigen::Vector2d qi = border_particle(g1i, g2i, c.radius[z.fibre_i], d);
-    const Eigen::Vector2d qj = border_particle(g1j, g2j, c.radius[z.fibre_j], -d);
-    p.xi1_i = qi(0);
-    p.xi2_i = qi(1);
-    p.xi1_j = qj(0);
-    p.xi2_j = qj(1);
+    place_particles(c, g, p, d);
     out.push_back(p);
   }
   return out;

@@ -28,11 +28,15 @@ namespace textile::contact
 /// nodes[0..order] with global node numbers and returns xi in [-1, 1].
 double element_of(const Centrelines& c, int f, double s, std::array<std::int64_t, 3>& nodes);
 
-/// Section vectors of all nodes, 6 per node [g1, g2], numbered as the
-/// Centrelines' nodes.
+/// Section vectors of all nodes, numbered as the Centrelines' nodes:
+/// node n's g1 at g[stride n + offset], its g2 right after it (6 per node
+/// [g1, g2] by default; the nodal unknowns [x0, g1, g2] are stride 9,
+/// offset 3).
 struct SectionVectors
 {
   std::span<const double> g;
+  std::size_t stride = 6;
+  std::size_t offset = 0;
   /// Interpolated g1, g2 at abscissa s of fibre f.
   std::pair<Eigen::Vector3d, Eigen::Vector3d> at(const Centrelines& c, int f, double s) const;
 };
@@ -101,6 +105,13 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
                                          const ProximityZone& z, double spacing,
                                          double parallel_angle, double delta_factor,
                                          const Eigen::Vector3d& fallback = Eigen::Vector3d::Zero());
+
+/// Place p's particles on the borders of its two sections where they face
+/// each other along `towards_j` (from fibre i towards fibre j; fibre j's
+/// particle faces -towards_j): sets xi1_i, xi2_i, xi1_j, xi2_j.
+/// @throws GeometryError if the direction is along a fibre's axis.
+void place_particles(const Centrelines& c, const SectionVectors& g, ContactPoint& p,
+                     const Eigen::Vector3d& towards_j);
 
 /// Closest points of the centre lines of fibres f and g near (s, t):
 /// Gauss-Newton on |x_f(s) - x_g(t)|^2, clamped to the fibres.
