@@ -168,6 +168,8 @@ class FibreContact(Effect):
         self.mode = "ordinary"
         self._order = None           # _cpp.WeavingOrder of the weaving mode
         self._reset_normals = False  # the mode changed: normals from the geometry again
+        self._fibre_yarn = self._yarn_above = None
+        self._weaving_done = False   # the weaving stage reached its end (depths made up)
 
     # -- stage options ---------------------------------------------------------
     def configure(self, mode: str | None = None, fibre_yarn=None, yarn_above=None,
@@ -178,7 +180,13 @@ class FibreContact(Effect):
         their crossing, -1 below, 0 no order; antisymmetric). In weaving
         mode a contact element between fibres of two ordered yarns has the
         normal sign * e_z (from fibre j to fibre i), so a fibre of the upper
-        yarn below one of the lower yarn has a negative gap wherever it is."""
+        yarn below one of the lower yarn has a negative gap wherever it is.
+
+        The yarns' interpenetration in the reference (straight, coplanar)
+        state is made up progressively over the stage: an ordered element's
+        gap is shifted by (1 - s) times its pair's reference penetration at
+        stage progress s (``ContactSet.set_depth_scale``), so each load step
+        pushes the yarns apart by its share, and a cut step pushes less."""
         if unknown:
             raise ValueError(f"FibreContact.configure: unknown option(s) {sorted(unknown)}; "
                              f"allowed: mode, fibre_yarn, yarn_above")
@@ -191,6 +199,9 @@ class FibreContact(Effect):
                                  "(textile.effects.weaving_contact.weaving_mode(fabric))")
             self._order = _cpp.WeavingOrder(np.asarray(fibre_yarn, dtype=np.intc),
                                             np.asarray(yarn_above, dtype=np.int8))
+            self._fibre_yarn = np.asarray(fibre_yarn, dtype=np.intc)
+            self._yarn_above = np.asarray(yarn_above, dtype=np.int8)
+            self._weaving_done = False
             self._check_order()
         elif fibre_yarn is not None or yarn_above is not None:
             raise ValueError("FibreContact: fibre_yarn and yarn_above go with mode='weaving'")
@@ -271,6 +282,7 @@ class FibreContact(Effect):
                                   math.radians(o.parallel_angle), mesh.owned,
                                   self._order if self.mode == "weaving" else None,
                                   reset_normals)
+        self._set_depths(new)
         self._carry_zone_penalties(new, old, inherited, q)
         new.evaluate(q)
         new.take_layout(old)  # usually the same nodes: no new assembly layout
@@ -285,6 +297,27 @@ class FibreContact(Effect):
         diff = comm.allreduce(float(np.sum((after - before) ** 2)))
         size = comm.allreduce(float(np.sum(before ** 2)))
         return diff > o.update_tolerance ** 2 * max(size, 1e-300) or (size == 0 and diff > 0)
+
+    def _depth_scale(self) -> float:
+        """1 - s during the weaving stage (s: its load factor), else 0."""
+        if self.mode != "weaving" or self._weaving_done:
+            return 0.0
+        return float(np.clip(1.0 - self.model.load_factor, 0.0, 1.0))
+
+    def _set_depths(self, new) -> None:
+        """Weaving: each element between ordered yarns takes its pair's
+        penetration in the reference state (evaluated there, with the
+        element's particles and normal) as the depth to make up."""
+        if self._depth_scale() == 0.0 or new.size == 0:
+            new.set_depth_scale(0.0)
+            return
+        new.set_depth_scale(0.0)
+        new.evaluate(self.model.mesh.X_global.ravel())
+        d = new.data()
+        yarn = self._fibre_yarn
+        ordered = self._yarn_above[yarn[d["fibre_i"]], yarn[d["fibre_j"]]] != 0
+        new.set_depths(np.where(ordered, np.maximum(-d["gap"], 0.0), 0.0))
+        new.set_depth_scale(self._depth_scale())
 
     def _carry_zone_penalties(self, new, old, inherited: dict, q: np.ndarray) -> None:
         """One penalty per zone of the new pass: the largest of the elements
@@ -342,6 +375,7 @@ class FibreContact(Effect):
         self.updates = 0
         self.emergency_retunes = 0
         self.penalty_conversions = 0
+        self.set.set_depth_scale(self._depth_scale())
         # after a mode change, every attempt's first pass sets normals anew
         self._rebuild(model.beam_positions(model.state()), reset_normals=self._reset_normals)
 
@@ -356,6 +390,8 @@ class FibreContact(Effect):
 
     def commit(self, model) -> None:
         self._reset_normals = False
+        if self.mode == "weaving" and model.load_factor >= 1.0 - 1e-12:
+            self._weaving_done = True  # a later weaving stage has nothing to make up
         self.set.commit()
         self._committed = self.set.copy()
         self._statistics(model)
@@ -366,11 +402,13 @@ class FibreContact(Effect):
     # -- assembly --------------------------------------------------------------
     def residual_global(self, state: State, b) -> bool:
         q = self.model.beam_positions(state)
+        self.set.set_depth_scale(self._depth_scale())  # the load factor of this evaluation
         self.set.assemble_vector(q, self.model.beam_global_dofs(state), b)
         return True
 
     def jacobian(self, state: State, A) -> None:
         q = self.model.beam_positions(state)
+        self.set.set_depth_scale(self._depth_scale())
         self.set.assemble_matrix(q, self.model.beam_global_dofs(state), A)
 
     # -- reporting ----------------------------------------------------------------

@@ -112,7 +112,7 @@ ContactResult contact_element(const Particle& pi, const Particle& pj,
                               const Eigen::Vector3d& N, const NormalLaw& law,
                               const RegularizedCoulomb* friction, const Eigen::Vector3d& stick,
                               std::span<const double> xi, std::span<const double> xj,
-                              std::span<double> r, std::span<double> K)
+                              std::span<double> r, std::span<double> K, double gap_offset)
 {
   // Delta = sum_s b_s q_s over both elements: b = [c_i, -c_j] (friction)
   const auto ci = particle_coefficients(pi), cj = particle_coefficients(pj);
@@ -138,7 +138,7 @@ ContactResult contact_element(const Particle& pi, const Particle& pj,
   const Eigen::Vector3d x0j = centroid(pj, xj, N, -1.0, off_j, G);
   const double hi = support(pi, xi, N, -1.0, 0, G);
   const double hj = support(pj, xj, N, -1.0, off_j, G);
-  out.gap = N.dot(x0i - x0j) - hi - hj;
+  out.gap = N.dot(x0i - x0j) - hi - hj + gap_offset;
   const double RN = law.reaction(out.gap), dRN = law.stiffness(out.gap);
   out.normal_force = RN;
   Eigen::Map<Eigen::VectorXd> rv(r.data(), n);
@@ -184,7 +184,7 @@ ContactResult contact_element(const Particle& pi, const Particle& pj,
 }
 
 double contact_gap(const Particle& pi, const Particle& pj, const Eigen::Vector3d& N,
-                   std::span<const double> xi, std::span<const double> xj)
+                   std::span<const double> xi, std::span<const double> xj, double gap_offset)
 {
   // the same expression as contact_element's, to the last bit
   Eigen::Vector3d x0[2];
@@ -200,7 +200,7 @@ double contact_gap(const Particle& pi, const Particle& pj, const Eigen::Vector3d
       x0[side] += n[a] * Eigen::Map<const Eigen::Vector3d>(x.data() + 9 * a);
     h[side] = p.radius * support_direction(section_vectors(p, x, n), N).norm();
   }
-  return N.dot(x0[0] - x0[1]) - h[0] - h[1];
+  return N.dot(x0[0] - x0[1]) - h[0] - h[1] + gap_offset;
 }
 
 Eigen::Vector3d updated_stick(const Eigen::Vector3d& N, const RegularizedCoulomb& friction,

@@ -77,13 +77,19 @@ ContactResult contact_element(const Particle& pi, const Particle& pj,
                               const Eigen::Vector3d& normal, const NormalLaw& law,
                               const RegularizedCoulomb* friction, const Eigen::Vector3d& stick,
                               std::span<const double> xi, std::span<const double> xj,
-                              std::span<double> r, std::span<double> K);
+                              std::span<double> r, std::span<double> K,
+                              double gap_offset = 0.0);
 
 /// The gap alone, as contact_element computes it, without derivatives or
 /// allocation: lets an assembler skip open elements (R_N = 0 and
 /// dR_N = 0, so neither force nor tangent) before running the kernel.
+///
+/// `gap_offset` (length, constant in q: no tangent term) is added to the
+/// gap the law sees and reports: the weaving stage uses it to make up the
+/// yarns' initial interpenetration progressively (contact_set.h).
 double contact_gap(const Particle& pi, const Particle& pj, const Eigen::Vector3d& normal,
-                   std::span<const double> xi, std::span<const double> xj);
+                   std::span<const double> xi, std::span<const double> xj,
+                   double gap_offset = 0.0);
 
 /// Stick point after a converged step (return mapping): unchanged in stick;
 /// in slip moved along the slip so that the elastic part is u_rev.

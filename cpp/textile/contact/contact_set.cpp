@@ -84,7 +84,7 @@ ContactSet::ContactSet(std::vector<ContactElementState> elements, int num_zones)
 }
 
 ContactSet::ContactSet(const ContactSet& other)
-    : _elements(other._elements), _num_zones(other._num_zones)
+    : _elements(other._elements), _num_zones(other._num_zones), _depth_scale(other._depth_scale)
 {
 }
 
@@ -94,6 +94,7 @@ ContactSet& ContactSet::operator=(const ContactSet& other)
   {
     _elements = other._elements;
     _num_zones = other._num_zones;
+    _depth_scale = other._depth_scale;
     _blocks = NodeBlockMatrix();
   }
   return *this;
@@ -104,7 +105,8 @@ ContactResult ContactSet::element(const ContactElementState& e, std::span<const 
                                   std::span<double> K) const
 {
   return contact_element(e.particle_i, e.particle_j, e.normal, element_law(e),
-                         e.friction.mu > 0 ? &e.friction : nullptr, e.stick, xi, xj, r, K);
+                         e.friction.mu > 0 ? &e.friction : nullptr, e.stick, xi, xj, r, K,
+                         offset(e));
 }
 
 bool ContactSet::take_layout(ContactSet& previous)
@@ -141,7 +143,7 @@ std::size_t ContactSet::run_kernels(std::span<const double> q)
   for (const auto& e : _elements)
   {
     const ElementUnknowns x(e, q);
-    if (is_open(element_law(e), contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj)))
+    if (is_open(element_law(e), contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj, offset(e))))
       continue;
     const std::size_t n = x.size();
     _K.resize(n * n);
@@ -159,7 +161,7 @@ std::vector<double> ContactSet::nodal_forces(std::span<const double> q) const
   for (const auto& e : _elements)
   {
     const ElementUnknowns x(e, q);
-    if (is_open(element_law(e), contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj)))
+    if (is_open(element_law(e), contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj, offset(e))))
       continue;
     element(e, x.xi, x.xj, std::span<double>(r.data(), x.size()), {});
     std::size_t k = 0;
@@ -182,7 +184,7 @@ void ContactSet::assemble_vector(std::span<const double> q, std::span<const std:
   for (auto& e : _elements)
   {
     const ElementUnknowns x(e, q);
-    const double gap = contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj);
+    const double gap = contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj, offset(e));
     if (is_open(element_law(e), gap))
     {
       e.result = ContactResult{};
@@ -223,7 +225,7 @@ void ContactSet::assemble_matrix(std::span<const double> q, std::span<const std:
   {
     const auto& e = _elements[k];
     const ElementUnknowns x(e, q);
-    if (is_open(element_law(e), contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj)))
+    if (is_open(element_law(e), contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj, offset(e))))
       continue;
     const std::size_t n = x.size();
     _K.resize(n * n); // the kernel overwrites it
@@ -286,6 +288,25 @@ std::vector<double> ContactSet::zone_force() const
   for (const auto& e : _elements)
     out[e.zone] += e.result.normal_force;
   return out;
+}
+
+void ContactSet::set_depths(std::span<const double> depth)
+{
+  if (depth.size() != _elements.size())
+    throw std::invalid_argument("ContactSet::set_depths: one depth per element needed");
+  for (std::size_t k = 0; k < depth.size(); ++k)
+  {
+    if (!(depth[k] >= 0))
+      throw std::invalid_argument("ContactSet::set_depths: depths must be >= 0");
+    _elements[k].depth = depth[k];
+  }
+}
+
+void ContactSet::set_depth_scale(double scale)
+{
+  if (!(scale >= 0 and scale <= 1))
+    throw std::invalid_argument("ContactSet::set_depth_scale: scale must be in [0, 1]");
+  _depth_scale = scale;
 }
 
 void ContactSet::set_zone_penalties(std::span<const double> k)

@@ -45,6 +45,10 @@ struct ContactElementState
   double regularization = 0; ///< g_r (length)
   RegularizedCoulomb friction{0.0, 1.0};
   Eigen::Vector3d stick = Eigen::Vector3d::Zero(); ///< Delta at the stick point
+  /// Weaving: the pair's interpenetration in the reference (straight,
+  /// coplanar) state that the weaving stage makes up progressively (length,
+  /// >= 0; see set_depth_scale). 0 otherwise.
+  double depth = 0;
   /// Last evaluation; forces are the element's (length x per-length values).
   /// After an assembly an open element's result holds only its gap (and
   /// zero forces); evaluate() fills every field.
@@ -123,6 +127,16 @@ public:
   /// Every element takes its zone's penalty k[zone] (> 0).
   void set_zone_penalties(std::span<const double> k);
 
+  /// Element e's depth (one value per element, >= 0, length).
+  void set_depths(std::span<const double> depth);
+
+  /// Every gap the elements compute and report is shifted by
+  /// scale x depth (constant in the unknowns). The weaving stage sets
+  /// scale = 1 - s at stage progress s: the yarns' initial interpenetration
+  /// is made up in as many load steps as the stage has, instead of all in
+  /// the first Newton iterate (which a step cut could not make smaller).
+  void set_depth_scale(double scale);
+
   /// Seconds spent in assemble_vector and assemble_matrix since the last
   /// reset: in the element kernels (contact_element), and in all.
   struct Timing
@@ -134,8 +148,11 @@ public:
   void reset_timing() { _timing = {}; }
 
 private:
+  double offset(const ContactElementState& e) const { return _depth_scale * e.depth; }
+
   std::vector<ContactElementState> _elements;
   int _num_zones = 0;
+  double _depth_scale = 0;
   NodeBlockMatrix _blocks; // layout of the tangent's node blocks (built on demand)
   std::vector<double> _K;  // scratch tangent of one element
   Timing _timing;

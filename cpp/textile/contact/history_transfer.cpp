@@ -1,4 +1,5 @@
 #include "history_transfer.h"
+#include "vertical_crossing.h"
 #include "contact_normal.h"
 
 #include <algorithm>
@@ -71,15 +72,47 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
                  std::pair<std::int64_t, std::int64_t> owned)
 {
   const auto& previous = old.elements();
-  const std::vector<int> match = match_history(d.points, previous);
   const std::size_t nz = d.zones.size();
+  // weaving: fibres of a warp and a weft yarn touch at one point, where
+  // they pass over each other (the vertical normal's facing point), not at
+  // the 3D closest point, which wanders along fibres bent around each
+  // other, nor along a line (a zone of crimped fibres can look like one):
+  // one crossing element per zone, at the projected intersection. Placed
+  // before history matching, so an element finds its predecessor there.
+  std::vector<ContactPoint> points(d.points.begin(), d.points.end());
+  std::vector<char> keep(points.size(), 1), woven(nz, 0);
+  for (std::size_t k = 0; k < points.size(); ++k)
+  {
+    ContactPoint& p = points[k];
+    if (!par.weaving or par.weaving->sign(p.fibre_i, p.fibre_j) == 0)
+      continue;
+    const int z = d.zone_of_point[k];
+    keep[k] = !woven[z];
+    woven[z] = 1;
+    if (keep[k] and vertical_crossing(c, p))
+    {
+      p.crossing = true;
+      p.length = crossing_length(c.radius[p.fibre_i], c.radius[p.fibre_j]);
+    }
+  }
+  const std::vector<int> match = match_history(points, previous);
+  // an ordinary crossing with a predecessor: where the fibres face each
+  // other along the predecessor's normal (vertical_crossing.h; also right
+  // after the weaving stage, whose vertical normals place it best)
+  std::vector<char> relocated(points.size(), 0);
+  for (std::size_t k = 0; k < points.size(); ++k)
+    if (keep[k] and points[k].crossing and match[k] >= 0
+        and !(par.weaving and par.weaving->sign(points[k].fibre_i, points[k].fibre_j) != 0))
+      relocated[k] = facing_crossing(c, points[k], previous[match[k]].normal);
   ZoneInheritance zones{std::vector<double>(nz, 0.0),
                         std::vector<int>(nz, std::numeric_limits<int>::max()),
                         std::vector<int>(nz, -1), std::vector<int>(nz, 0)};
   std::vector<ContactElementState> elements;
-  for (std::size_t k = 0; k < d.points.size(); ++k)
+  for (std::size_t k = 0; k < points.size(); ++k)
   {
-    ContactPoint p = d.points[k];
+    if (!keep[k])
+      continue;
+    ContactPoint p = points[k];
     const int z = d.zone_of_point[k];
     const ContactElementState* from = match[k] >= 0 ? &previous[match[k]] : nullptr;
     if (from)
@@ -104,9 +137,17 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
       place_particles(c, SectionVectors{q, 9, 3}, p, -normal);
     }
     else
+    {
       normal = contact_normal(p.tangent_i, p.tangent_j, p.tangent, p.centroid_gap,
                               previous_normal, par.parallel_angle, p.crossing,
                               c.radius[p.fibre_i] + c.radius[p.fibre_j]);
+      // a relocated crossing turns its normal half way from the previous
+      // one: between fibres bent around each other, placement along a
+      // normal and the normal at that place over-correct each other (a
+      // growing period-2 swing); halving the turn keeps the fixed point
+      if (relocated[k])
+        normal = (from->normal + normal).normalized();
+    }
     const Eigen::Vector3d slip = from ? old.elastic_slip(*from) : Eigen::Vector3d::Zero();
     elements.push_back(make_element(c, p, z, normal, from ? from->penalty : par.penalty,
                                     par.regularization, par.friction, slip, q));
