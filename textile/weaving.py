@@ -1,0 +1,146 @@
+"""The weaving computation (METHOD.md section 5): from a fabric's straight,
+coplanar, interpenetrating yarns to the woven state.
+
+The scene:
+
+- every fibre of the :class:`~textile.fabric.Fabric`, yarn after yarn;
+- per yarn, two rigid bodies holding its end sections: the *clamp* at its
+  start (all six components held) and the *pull* at its end, free to slide
+  in the fabric plane along the yarn's direction and loaded by an axial
+  tension; its other components are held (the yarn end neither tilts nor
+  moves sideways: a yarn of a small sample has no lateral support but its
+  own bending, and frictionless vertical contacts give it none, so a free
+  sideways motion would be a near-zero-stiffness mode);
+- fibre-fibre contact (:class:`~textile.effects.fibre_contact.FibreContact`).
+
+Two stages:
+
+1. ``weaving`` (``steps`` load steps): contacts between fibres of a warp
+   and a weft yarn take the vertical as normal and the sign of their gap
+   from the crossing order, so the yarns are pushed over and under each
+   other; contacts within a yarn and between parallel yarns are ordinary.
+   The yarn tensions ramp to their value.
+2. ``relaxation`` (``relaxation_steps``): ordinary contact everywhere,
+   tensions held: the woven state.
+
+Units: as the fabric's (lengths of its spacing and radii, forces of its
+materials' Young's modulus times an area).
+"""
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+from mpi4py import MPI
+
+from . import fabric_measures
+from .effects.fibre_contact import FibreContact
+from .effects.weaving_contact import weaving_mode
+from .fabric import Fabric
+from .io import fabric_labels
+from .loading import Stage
+from .model import Model
+from .output import Output
+from .rigid_body import RigidBody
+from .solver import Solver
+
+
+def _count(value, name: str, low: int = 1) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < low:
+        raise ValueError(f"Weaving: {name} must be an integer >= {low}, got {value!r}")
+    return int(value)
+
+
+class Weaving:
+    """The weaving scene of a fabric and its two stages (module docstring).
+
+    Parameters
+    ----------
+    fabric:
+        The :class:`~textile.fabric.Fabric` to weave.
+    steps:
+        Load steps of the weaving stage (about five, METHOD.md section 5).
+    relaxation_steps:
+        Load steps of the ordinary-contact stage that follows.
+    tension:
+        Axial tension of each fibre at the yarn's pull body, as a fraction
+        of the fibre's axial stiffness E A (an axial strain; default 1e-4,
+        small: the yarns crimp freely).
+    contact:
+        :class:`~textile.effects.fibre_contact.ContactOptions` or a dict.
+    element:
+        :class:`~textile.element.BeamElement` of the fibres (default: the
+        model's).
+    comm:
+        MPI communicator.
+    """
+
+    def __init__(self, fabric: Fabric, steps: int = 5, relaxation_steps: int = 1,
+                 tension: float = 1e-4, contact=None, element=None, comm=MPI.COMM_WORLD):
+        if not isinstance(fabric, Fabric):
+            raise TypeError(f"Weaving: fabric must be a textile.fabric.Fabric, got "
+                            f"{type(fabric).__name__}")
+        self.steps = _count(steps, "steps")
+        self.relaxation_steps = _count(relaxation_steps, "relaxation_steps")
+        if isinstance(tension, bool) or not isinstance(tension, numbers.Real) \
+                or not math.isfinite(tension) or tension <= 0 or tension >= 0.1:
+            raise ValueError(f"Weaving: tension is an axial strain, in (0, 0.1); got {tension!r}")
+        self.fabric = fabric
+        self.tension = float(tension)
+        fibres = fabric.fibres()
+        self.model = Model(fibres, element=element, comm=comm)
+        self.contact = FibreContact(contact)
+        self.model.add_effect(self.contact)
+        self.clamps, self.pulls = [], []
+        for k in range(fabric.num_yarns):
+            mine = np.flatnonzero(fabric.fibre_yarn == k)
+            label = f"{fabric.yarn_direction(k)} {k if k < fabric.num_warp else k - fabric.num_warp}"
+            clamp = RigidBody(f"{label} clamp", sections=[(int(f), 0) for f in mine])
+            clamp.fix("all")
+            pull = RigidBody(f"{label} pull", sections=[(int(f), -1) for f in mine])
+            a, b = fabric.yarn_axis(k)
+            pull.fix(("z", "rotation", "y" if k < fabric.num_warp else "x"))
+            axis = (b - a) / np.linalg.norm(b - a)
+            ea = sum(fibres[f].material.young * math.pi * fibres[f].radius ** 2 for f in mine)
+            pull.add_force(self.tension * ea * axis)
+            self.model.add_rigid_body(clamp)
+            self.model.add_rigid_body(pull)
+            self.clamps.append(clamp)
+            self.pulls.append(pull)
+
+    def stages(self) -> list[Stage]:
+        """The weaving stage, then the ordinary-contact relaxation."""
+        return [Stage("weaving", effects={self.contact: weaving_mode(self.fabric)},
+                      solver=dict(initial_step=1.0 / self.steps, max_step=1.0 / self.steps)),
+                Stage("relaxation", effects={self.contact: dict(mode="ordinary")},
+                      solver=dict(initial_step=1.0 / self.relaxation_steps,
+                                  max_step=1.0 / self.relaxation_steps))]
+
+    def output(self, directory: str, **options) -> Output:
+        """An :class:`~textile.output.Output` that also writes each fibre's
+        yarn and the fabric's figures (crimp, shrinkage, ...) every step."""
+        return Output(directory, **fabric_labels(self.fabric),
+                      extra=lambda model: fabric_measures.summary(self.fabric, model), **options)
+
+    def run(self, output: Output | None = None, solver_options=None) -> Solver:
+        """Weave: run both stages; returns the solver (its ``history`` holds
+        every step). Raises :class:`~textile.solver.ConvergenceError` with
+        the last converged state kept (and written by ``output``)."""
+        solver = Solver(self.model, dict(solver_options or {}), output=output)
+        solver.run(self.stages())
+        return solver
+
+    def summary(self) -> dict:
+        """Crimp, shrinkage, section shapes and curvatures of the current
+        state (:func:`textile.fabric_measures.summary`), the crossing order
+        check and the contact figures."""
+        out = fabric_measures.summary(self.fabric, self.model)
+        sep = fabric_measures.crossing_separation(self.fabric, self.model)
+        out["min crossing separation"] = float(sep.min())
+        out["crossings in pattern order"] = int(np.count_nonzero(sep > 0))
+        out["crossings"] = int(sep.size)
+        stats = self.contact.statistics()
+        out["max penetration / radius"] = stats.get("max_penetration_over_radius", 0.0)
+        out["contact elements"] = stats.get("contact_elements", 0)
+        return out
