@@ -81,6 +81,8 @@ class Output:
         self._log = None
         self._last = None         # (step, centre lines, radii) of the last state, rank 0
         self._drawn_step = None   # the step the "last" pictures show
+        #: set by Solver.run while stages remain: "last" draws at the run's end
+        self.hold_pictures = False
 
     @staticmethod
     def _checked_fibre_data(fibre_data) -> dict:
@@ -171,7 +173,8 @@ class Output:
             self._last = (record.step, lines, [f.radius for f in mesh.fibres])
         if self.pictures is True and write_vtu:
             self._draw(f"_{record.step:05d}")
-        elif self.pictures == "last" and record.load_factor >= 1.0 - 1e-12:
+        elif self.pictures == "last" and record.load_factor >= 1.0 - 1e-12 \
+                and not self.hold_pictures:
             self._draw()
 
     def _contact_elements(self, model) -> dict | None:

@@ -708,7 +708,10 @@ class Solver:
     def run(self, stages) -> list[StepRecord]:
         """Run a sequence of :class:`textile.loading.Stage`, each from load
         factor 0 to 1, continuing from the state the previous one left."""
-        for stage in stages:
+        stages = list(stages)
+        for k, stage in enumerate(stages):
+            if self.output is not None:  # pictures of the final state only
+                self.output.hold_pictures = k < len(stages) - 1
             self.run_stage(stage)
         return self.history
 

@@ -74,3 +74,18 @@ def test_a_failing_picture_is_a_warning_not_a_lost_result(tmp_path, monkeypatch,
     assert len(data["steps"]) == 2 and len(list(tmp_path.glob("fibres_*.vtu"))) == 2
     assert any("picture not drawn: cut.png" in w for w in data["meta"]["warnings"])
     assert data["meta"]["pictures"] == {}
+
+
+@pytest.mark.filterwarnings("ignore::textile.io.render.RenderingWarning")
+def test_a_run_of_stages_draws_its_final_state_once(tmp_path, no_vtk, monkeypatch):
+    # "last" in Solver.run: the pictures of the last stage's end, not of
+    # every stage's (each set costs seconds)
+    model = bar(0.1)
+    out = textile.Output(str(tmp_path))
+    calls = []
+    draw = out._draw
+    monkeypatch.setattr(out, "_draw", lambda *a: (calls.append(len(solver.history)), draw(*a)))
+    solver = textile.Solver(model, dict(initial_step=0.5, max_step=0.5, **QUIET), output=out)
+    solver.run([textile.Stage("first"), textile.Stage("second")])
+    assert calls == [len(solver.history)]
+    assert {p["step"] for p in meta(tmp_path)["pictures"].values()} == {len(solver.history)}

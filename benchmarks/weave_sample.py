@@ -1,0 +1,111 @@
+"""The paper's sample woven: 6 warp x 6 weft yarns of 28 fibres (336 fibres).
+
+Weaves the sample (plain weave, then a 2/2 twill) with the default
+weaving scene (:class:`textile.weaving.Weaving`), prints its size as in the
+paper's Table 1 (fibres, fibre nodes, fibre unknowns, contact elements),
+the wall time and Newton iterations of every step (failed attempts
+included), the woven fabric's figures, and writes them to
+``output/weave_sample.json``; the woven states go to
+``output/weave_sample_<pattern>.h5``.
+
+    .venv/bin/python benchmarks/weave_sample.py [--patterns plain "twill 2/2"]
+        [--fibres 28] [--yarns 6] [--elements 4]
+    mpirun -n 2 .venv/bin/python benchmarks/weave_sample.py
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import time
+
+from mpi4py import MPI
+
+import textile
+from textile import runtime
+from textile.fabric import Fabric
+from textile.weaving import Weaving
+from textile.yarn import Yarn
+
+OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "output")
+R = 0.1e-3
+MAT = textile.Material(5.0e9, 0.35)
+
+
+def weave(pattern: str, fibres: int, yarns: int, elements: int, comm) -> dict:
+    yarn = Yarn(fibres, R, MAT)
+    fabric = Fabric(yarn, num_warp=yarns, num_weft=yarns, spacing=2.0 * yarn.width,
+                    pattern=pattern, elements_per_crossing=elements)
+    weaving = Weaving(fabric, comm=comm)
+    model = weaving.model
+    t0 = time.perf_counter()
+    error = ""
+    solver = textile.Solver(model, dict(verbose=comm.rank == 0))
+    try:
+        solver.run(weaving.stages())
+    except textile.ConvergenceError as e:
+        error = str(e)
+    wall = time.perf_counter() - t0
+    stats = solver.history[-1].effects if solver.history else {}
+    size = dict(fibres=len(model.mesh.fibres), fibre_nodes=int(model.mesh.num_nodes_global),
+                fibre_unknowns=9 * int(model.mesh.num_nodes_global),
+                unknowns=int(model.A.getSize()[0]),
+                contact_elements=int(stats.get("contact_elements", 0)),
+                active_contacts=int(stats.get("active_contacts", 0)))
+    steps = [dict(step=h.step, stage=h.stage, load_factor=h.load_factor,
+                  newton_iterations=h.newton_iterations, attempts=h.attempts,
+                  updates=h.updates, wall_seconds=h.wall_time) for h in solver.history]
+    summary = weaving.summary() if not error else {}
+    name = pattern.replace(" ", "_").replace("/", "-")
+    textile.save_state(model, os.path.join(OUT, f"weave_sample_{name}.h5"), solver,
+                       fibre_data={"yarn": fabric.fibre_yarn})
+    return dict(pattern=pattern, size=size, wall_seconds=wall, counters=solver.counters,
+                steps=steps, summary=summary, error=error)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--patterns", nargs="+", default=["plain", "twill 2/2"])
+    parser.add_argument("--fibres", type=int, default=28, help="fibres per yarn")
+    parser.add_argument("--yarns", type=int, default=6, help="yarns per direction")
+    parser.add_argument("--elements", type=int, default=4,
+                        help="fibre elements between neighbouring crossings")
+    args = parser.parse_args()
+    comm = MPI.COMM_WORLD
+    os.makedirs(OUT, exist_ok=True)
+    if comm.rank == 0:
+        print(runtime.describe())
+    runs = []
+    for pattern in args.patterns:
+        r = weave(pattern, args.fibres, args.yarns, args.elements, comm)
+        runs.append(r)
+        if comm.rank == 0:
+            s = r["size"]
+            print(f"\n{pattern}: {s['fibres']} fibres, {s['fibre_nodes']} fibre nodes, "
+                  f"{s['fibre_unknowns']} fibre unknowns ({s['unknowns']} in all), "
+                  f"{s['contact_elements']} contact elements ({s['active_contacts']} active)")
+            print(f"{'step':>5} {'stage':<11} {'t':>6} {'Newton':>7} {'attempts':>9} "
+                  f"{'updates':>8} {'wall [s]':>9}")
+            for st in r["steps"]:
+                print(f"{st['step']:5d} {st['stage']:<11} {st['load_factor']:6.3f} "
+                      f"{st['newton_iterations']:7d} {st['attempts']:9d} {st['updates']:8d} "
+                      f"{st['wall_seconds']:9.1f}")
+            print(f"total {r['wall_seconds']:.1f} s, counters {r['counters']}")
+            if r["error"]:
+                print(f"FAILED: {r['error']}")
+            for k, v in r["summary"].items():
+                print(f"  {k:<28} {v:.4g}" if isinstance(v, float) else f"  {k:<28} {v}")
+    peak = comm.allreduce(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
+    if comm.rank == 0:
+        print(f"peak memory (sum over ranks) {peak:.0f} MiB")
+        path = os.path.join(OUT, "weave_sample.json")
+        with open(path, "w") as f:
+            json.dump(dict(date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+                           blas=runtime.blas_info(), ranks=comm.size, runs=runs,
+                           peak_memory_mib=peak), f, indent=1, default=float)
+        print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()
