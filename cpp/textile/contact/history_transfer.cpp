@@ -103,6 +103,8 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
       normal = order * Eigen::Vector3d::UnitZ();
       place_particles(c, SectionVectors{q, 9, 3}, p, -normal);
     }
+    else if (p.held_normal.squaredNorm() > 0)
+      normal = p.held_normal; // the fibres have crossed along it: keep it
     else
       normal = contact_normal(p.tangent_i, p.tangent_j, p.tangent, p.centroid_gap,
                               previous_normal, par.parallel_angle, p.crossing,
