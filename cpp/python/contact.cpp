@@ -3,6 +3,7 @@
 
 #include "../textile/contact/coupling_pattern.h"
 #include "../textile/contact/detection.h"
+#include "../textile/contact/held_contact.h"
 #include "../textile/contact/history_transfer.h"
 #include "../textile/contact/penalty_adaptation.h"
 
@@ -75,6 +76,37 @@ py::array column(const std::vector<Item>& items, Get get)
   }
 }
 
+/// Held contacts (held_contact.h) as a dict of arrays, and back.
+py::dict held_to_arrays(const std::vector<HeldContact>& held)
+{
+  py::dict out;
+  out["fibre_i"] = column(held, [](const HeldContact& h) { return h.fibre_i; });
+  out["fibre_j"] = column(held, [](const HeldContact& h) { return h.fibre_j; });
+  out["s_i"] = column(held, [](const HeldContact& h) { return h.s_i; });
+  out["s_j"] = column(held, [](const HeldContact& h) { return h.s_j; });
+  out["normal"] = column(held, [](const HeldContact& h) { return h.normal; });
+  out["length"] = column(held, [](const HeldContact& h) { return h.length; });
+  out["crossing"] = column(held, [](const HeldContact& h) { return h.crossing; });
+  return out;
+}
+
+std::vector<HeldContact> held_from_arrays(const py::dict& a)
+{
+  const auto fi = a["fibre_i"].cast<carray<int>>(), fj = a["fibre_j"].cast<carray<int>>();
+  const auto si = a["s_i"].cast<carray<double>>(), sj = a["s_j"].cast<carray<double>>();
+  const auto n = a["normal"].cast<carray<double>>(), len = a["length"].cast<carray<double>>();
+  const auto cr = a["crossing"].cast<carray<bool>>();
+  const auto size = static_cast<std::size_t>(fi.size());
+  if (fj.size() != fi.size() or si.size() != fi.size() or sj.size() != fi.size()
+      or n.size() != 3 * fi.size() or len.size() != fi.size() or cr.size() != fi.size())
+    throw std::invalid_argument("held contacts: arrays of different lengths");
+  std::vector<HeldContact> out(size);
+  for (std::size_t k = 0; k < size; ++k)
+    out[k] = {fi.data()[k], fj.data()[k], si.data()[k], sj.data()[k],
+              Eigen::Vector3d(n.data() + 3 * k), len.data()[k], cr.data()[k]};
+  return out;
+}
+
 /// Centre lines and section vectors from the (nodes, 9) array q.
 struct Geometry
 {
@@ -107,6 +139,7 @@ void declare_contact(py::module_& m)
                         "intermediate geometries (replicated: every rank finds the same).")
       .def_property_readonly("num_zones", [](const Detection& d) { return d.zones.size(); })
       .def_property_readonly("size", [](const Detection& d) { return d.points.size(); })
+      .def_readonly("held", &Detection::held, "Points added for held contacts.")
       .def(
           "arrays",
           [](const Detection& d)
@@ -132,16 +165,21 @@ void declare_contact(py::module_& m)
       "detect_contacts",
       [](const carray<double>& q, const carray<std::int64_t>& first_node, int order,
          const carray<double>& radius, double delta_factor, double self_exclusion, double spacing,
-         double parallel_angle)
+         double parallel_angle, const py::object& held)
       {
         Geometry geo(q, first_node, order, radius);
-        return detect(geo.lines, SectionVectors{geo.g}, delta_factor, self_exclusion, spacing,
-                      parallel_angle);
+        const SectionVectors g{geo.g};
+        Detection d = detect(geo.lines, g, delta_factor, self_exclusion, spacing, parallel_angle);
+        if (!held.is_none())
+          d.held = add_held_contacts(d, geo.lines, g, held_from_arrays(held.cast<py::dict>()));
+        return d;
       },
       py::arg("q"), py::arg("first_node"), py::arg("order"), py::arg("radius"),
       py::arg("delta_factor"), py::arg("self_exclusion"), py::arg("spacing"),
-      py::arg("parallel_angle"),
-      "One detection pass on the current nodal unknowns q (nodes x 9): a Detection.");
+      py::arg("parallel_angle"), py::arg("held") = py::none(),
+      "One detection pass on the current nodal unknowns q (nodes x 9): a Detection. `held`: "
+      "contacts of the last pass not to lose (ContactSet.contacts_to_hold, gathered from "
+      "every rank), kept as zones of their own where detection finds none.");
 
   py::class_<WeavingOrder>(m, "WeavingOrder",
                            "Crossing order of the weaving stage: fibre -> yarn, and "
@@ -178,6 +216,8 @@ void declare_contact(py::module_& m)
       .def_readonly("target", &PenaltyAdaptation::target)
       .def_readonly("band_low", &PenaltyAdaptation::band_low)
       .def_readonly("band_high", &PenaltyAdaptation::band_high)
+      .def_readonly("k_min", &PenaltyAdaptation::k_min)
+      .def_readonly("k_max", &PenaltyAdaptation::k_max)
       .def("between_steps", over_zones(&PenaltyAdaptation::between_steps), py::arg("penalty"),
            py::arg("penetration"),
            "Zone penalties for the next step, from each zone's penalty and largest penetration.")
@@ -206,11 +246,13 @@ void declare_contact(py::module_& m)
              const carray<std::int64_t>& first_node, int order, const carray<double>& radius,
              double penalty, double g_r, double mu, double u_rev, double parallel_angle,
              std::pair<std::int64_t, std::int64_t> owned, const WeavingOrder* weaving,
-             bool reset_normals)
+             bool reset_normals, const WeavingOrder* woven)
           {
             Geometry geo(q, first_node, order, radius);
-            const ElementParameters par{penalty,        g_r,     RegularizedCoulomb{mu, u_rev},
-                                        parallel_angle, weaving, reset_normals};
+            ElementParameters par{penalty, g_r, RegularizedCoulomb{mu, u_rev}, parallel_angle};
+            par.weaving = weaving;
+            par.reset_normals = reset_normals;
+            par.woven = woven;
             auto [set, zones] = next_contact_set(self, found, geo.lines, cspan(q), par, owned);
             py::dict inherited;
             inherited["penalty"] = array_of(zones.penalty);
@@ -222,7 +264,7 @@ void declare_contact(py::module_& m)
           py::arg("found"), py::arg("q"), py::arg("first_node"), py::arg("order"),
           py::arg("radius"), py::arg("penalty"), py::arg("g_r"), py::arg("mu"), py::arg("u_rev"),
           py::arg("parallel_angle"), py::arg("owned"), py::arg("weaving") = nullptr,
-          py::arg("reset_normals") = false,
+          py::arg("reset_normals") = false, py::arg("woven") = nullptr,
           "The set of detection pass `found` with history from this one (evaluated by this "
           "rank: first node on fibre i in `owned`), and what each new zone inherits. "
           "`weaving`: a WeavingOrder whose ordered pairs take the vertical normal; "
@@ -234,10 +276,26 @@ void declare_contact(py::module_& m)
       .def("set_depths", [](ContactSet& self, const carray<double>& d)
            { self.set_depths(cspan(d)); })
       .def("set_depth_scale", &ContactSet::set_depth_scale)
+      .def("set_tangent_floor", &ContactSet::set_tangent_floor, py::arg("fraction"),
+           "Every element's tangent floor (regularized_penalty.h) for the next tangents.")
       .def("zone_max_penetration",
            [](const ContactSet& self) { return array_of(self.zone_max_penetration()); })
       .def("zone_penalty", [](const ContactSet& self) { return array_of(self.zone_penalty()); })
       .def("zone_force", [](const ContactSet& self) { return array_of(self.zone_force()); })
+      .def("zone_crossed", [](const ContactSet& self) { return array_of(self.zone_crossed()); })
+      .def(
+          "contacts_to_hold",
+          [](const ContactSet& self, const carray<double>& q,
+             const carray<std::int64_t>& first_node, int order, const carray<double>& radius,
+             double delta_factor)
+          {
+            Geometry geo(q, first_node, order, radius);
+            return held_to_arrays(contacts_to_hold(self, geo.lines, delta_factor));
+          },
+          py::arg("q"), py::arg("first_node"), py::arg("order"), py::arg("radius"),
+          py::arg("delta_factor"),
+          "This rank's closed elements (at their last evaluation) that the next detection "
+          "might lose, as a dict of arrays (held_contact.h).")
       .def("evaluate", [](ContactSet& self, const carray<double>& q)
            { self.evaluate(cspan(q)); })
       .def("assemble_vector",
@@ -282,6 +340,7 @@ void declare_contact(py::module_& m)
              put("length", [](const Element& e) { return e.length; });
              put("crossing", [](const Element& e) { return e.crossing; });
              put("gap", [](const Element& e) { return e.result.gap; });
+             put("separation", [](const Element& e) { return e.result.separation; });
              put("normal_force", [](const Element& e) { return e.result.normal_force; });
              put("slip", [](const Element& e) { return e.result.slip; });
              put("normal", [](const Element& e) { return e.normal; });

@@ -9,6 +9,8 @@
 #include <textile/contact/penalty_adaptation.h>
 #include <textile/contact/regularized_penalty.h>
 
+#include "test_contact_scenes.h"
+
 #include <gtest/gtest.h>
 #include <petscmat.h>
 
@@ -293,42 +295,8 @@ TEST(PenaltyAdaptationRule, ForcePreservingBandedAndBounded)
   EXPECT_THROW(rule.validate(), std::invalid_argument);
 }
 
-namespace
-{
-Centrelines two_lines(double angle, int ne, double length, double radius, double gap)
-{
-  Centrelines c;
-  c.order = 2;
-  c.radius = {radius, radius};
-  c.fibre_offsets = {0};
-  const Eigen::Vector3d ti(1, 0, 0), tj(std::cos(angle), std::sin(angle), 0);
-  for (const auto& [t, z] : {std::pair{ti, 0.0}, std::pair{tj, 2 * radius - gap}})
-  {
-    for (int k = 0; k <= 2 * ne; ++k)
-    {
-      const Eigen::Vector3d p = (k / (2.0 * ne) - 0.5) * length * t + Eigen::Vector3d(0, 0, z);
-      c.x.insert(c.x.end(), {p[0], p[1], p[2]});
-    }
-    c.fibre_offsets.push_back(c.x.size() / 3);
-  }
-  return c;
-}
-
-std::vector<double> section_vectors_along(const Centrelines& c)
-{
-  std::vector<double> g;
-  for (std::size_t n = 0; n < c.x.size() / 3; ++n)
-  {
-    const Eigen::Vector3d t = n < static_cast<std::size_t>(c.fibre_offsets[1])
-                                  ? Eigen::Vector3d(c.x[3] - c.x[0], c.x[4] - c.x[1], 0)
-                                  : Eigen::Vector3d(c.x.end()[-3] - c.x.end()[-6],
-                                                    c.x.end()[-2] - c.x.end()[-5], 0);
-    const Eigen::Vector3d g1 = Eigen::Vector3d::UnitZ(), g2 = t.normalized().cross(g1);
-    g.insert(g.end(), {g1[0], g1[1], g1[2], g2[0], g2[1], g2[2]});
-  }
-  return g;
-}
-} // namespace
+using scenes::section_vectors_along;
+using scenes::two_lines;
 
 TEST(ContactLengths, LineLengthsSumToTheZoneWhateverTheSpacing)
 {

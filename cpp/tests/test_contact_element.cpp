@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -29,6 +30,23 @@ TEST(RegularizedPenalty, ContinuousWithContinuousSlope)
     EXPECT_NEAR(law.reaction(-law.penetration(R)), R, 1e-12 * R + 1e-15);
   EXPECT_THROW(RegularizedPenalty(0.0, 1e-4), std::invalid_argument);
   EXPECT_THROW(RegularizedPenalty(1.0, -1.0), std::invalid_argument);
+}
+
+TEST(RegularizedPenalty, TangentFloorNearZeroGapOnly)
+{
+  const double k = 2.0e3, g_r = 1e-4;
+  const RegularizedPenalty exact(k, g_r), floored(k, g_r, 0.5);
+  for (double g : {-3e-4, -1e-4, -5e-5, -1e-5, 0.0, 5e-5, 1e-4, 2e-4})
+  {
+    EXPECT_EQ(floored.reaction(g), exact.reaction(g)); // the residual is the law's
+    EXPECT_EQ(floored.stiffness(g), exact.stiffness(g));
+    // Newton's tangent: at least half the penalty closed by less than g_r
+    // or open by less than g_r, the exact stiffness elsewhere
+    const double expected = g < g_r ? std::min(exact.stiffness(g), -0.5 * k) : 0.0;
+    EXPECT_EQ(floored.newton_stiffness(g), g <= -g_r ? -k : expected) << g;
+    EXPECT_EQ(exact.newton_stiffness(g), exact.stiffness(g));
+  }
+  EXPECT_THROW(RegularizedPenalty(k, g_r, 1.5), std::invalid_argument);
 }
 
 namespace

@@ -93,6 +93,17 @@ class ContactOptions(Options):
         u_T,rev as a fraction of the smallest radius.
     self_contact:
         Look for contact of a fibre with distant parts of itself.
+    tangent_floor:
+        First-contact safeguard (stability issue item 5): the n-th tangent
+        of a Newton solve (n = 0, 1, ...) keeps at least tangent_floor x
+        0.1^n times the penalty for contact elements closed by less than
+        g_r (the law's quadratic part, whose stiffness vanishes at gap = 0)
+        or open by less than g_r. A fibre pushed by a dead force onto
+        another it just touches then moves by about the linear law's
+        penetration in Newton's first iterate, not as far as the rest of the
+        structure lets it (a residual of 1e13 after 3e-3). The floor fades
+        within a few iterations (quadratic convergence again); the residual
+        is the law's, so the converged answer does not change. 0: off.
     update_tolerance:
         After a converged Newton, the elements are re-detected and re-normaled
         at the new state; another Newton is run when the contact forces of the
@@ -113,6 +124,7 @@ class ContactOptions(Options):
     friction: float = 0.0
     reversible_slip: float = 0.01
     self_contact: bool = True
+    tangent_floor: float = 1.0
     update_tolerance: float = 1e-3
 
     kind = "contact"
@@ -135,8 +147,19 @@ class ContactOptions(Options):
         if not 0 < lo <= 1 <= 0.75 * hi:
             raise ValueError("ContactOptions.penalty_band must be (low, high) with "
                              "0 < low <= 1 <= 3/4 high")
+        if not (isinstance(self.tangent_floor, (int, float)) and 0 <= self.tangent_floor <= 1):
+            raise ValueError(f"ContactOptions.tangent_floor must be in [0, 1], got "
+                             f"{self.tangent_floor!r}")
         if self.max_penalty_change < 1:
             raise ValueError("ContactOptions.max_penalty_change must be >= 1")
+
+
+#: Factor by which the tangent floor decays from one Newton iteration to the
+#: next (ContactOptions.tangent_floor). Measured on a fibre pressed by dead
+#: forces onto another it touches (tests/contact/test_first_contact.py): 0.1
+#: needs the fewest iterations; a floor kept for the first iteration only
+#: lets the second explode, a slower decay (0.3, 0.5) converges slowly.
+FLOOR_DECAY = 0.1
 
 
 def _reduce(comm, values: np.ndarray, op) -> np.ndarray:
@@ -169,6 +192,7 @@ class FibreContact(Effect):
         self._order = None           # _cpp.WeavingOrder of the weaving mode
         self._reset_normals = False  # the mode changed: normals from the geometry again
         self._fibre_yarn = self._yarn_above = None
+        self._woven = None           # the order of a woven fabric, after its weaving stage
         self._weaving_done = False   # the weaving stage reached its end (depths made up)
 
     # -- stage options ---------------------------------------------------------
@@ -206,6 +230,8 @@ class FibreContact(Effect):
         elif fibre_yarn is not None or yarn_above is not None:
             raise ValueError("FibreContact: fibre_yarn and yarn_above go with mode='weaving'")
         else:
+            if self.mode == "weaving":
+                self._woven = self._order  # the fabric's yarns stay bent around each other
             self._order = None
         if mode != self.mode:
             self._reset_normals = True
@@ -255,14 +281,30 @@ class FibreContact(Effect):
         self.emergency_retunes = 0
         self.retuned_zones = 0
         self.penalty_conversions = 0
+        self.held_contacts = 0
+        self._newton_pending = False  # a Newton solve follows (prepare, or update True)
+        self._tangents = 0            # tangents assembled in that solve so far
         self._check_order()
 
     # -- detection and history -----------------------------------------------
-    def _detect(self, q: np.ndarray):
+    def _detect(self, q: np.ndarray, held: dict | None = None):
         mesh = self.model.mesh
         return _cpp.detect_contacts(q, mesh.first_node, mesh.order, self.radius,
                                     self.options.search_factor, self.self_exclusion,
-                                    self.spacing, math.radians(self.options.parallel_angle))
+                                    self.spacing, math.radians(self.options.parallel_angle),
+                                    held)
+
+    def _contacts_to_hold(self, q: np.ndarray) -> dict:
+        """The closed elements of every rank (at the set's last evaluation)
+        that the next detection might lose (``held_contact.h``): detection is
+        replicated, so each rank gets all of them."""
+        mesh, comm = self.model.mesh, self.model.comm
+        mine = self.set.contacts_to_hold(q, mesh.first_node, mesh.order, self.radius,
+                                         self.options.search_factor)
+        if comm.size == 1:
+            return mine
+        parts = comm.allgather(mine)
+        return {k: np.concatenate([p[k] for p in parts]) for k in mine}
 
     def _replace_set(self, new) -> None:
         for k, v in self.set.timing().items():
@@ -273,15 +315,16 @@ class FibreContact(Effect):
         """Detect, carry history, set normals and zone penalties; True if
         the contact forces at q changed beyond update_tolerance."""
         o, mesh, comm = self.options, self.model.mesh, self.model.comm
-        found = self._detect(q)
         old = self.set
-        old.evaluate(q)  # elastic slips and zone forces carried from this state
+        old.evaluate(q)  # elastic slips, zone forces and held contacts from this state
+        found = self._detect(q, self._contacts_to_hold(q))
+        self.held_contacts += found.held
         before = old.nodal_forces(q)
         new, inherited = old.next(found, q, mesh.first_node, mesh.order, self.radius, self.k0,
                                   self.g_r, o.friction, self.u_rev,
                                   math.radians(o.parallel_angle), mesh.owned,
                                   self._order if self.mode == "weaving" else None,
-                                  reset_normals)
+                                  reset_normals, self._woven)
         self._set_depths(new)
         self._carry_zone_penalties(new, old, inherited, q)
         new.evaluate(q)
@@ -376,17 +419,56 @@ class FibreContact(Effect):
         self.emergency_retunes = 0
         self.penalty_conversions = 0
         self.set.set_depth_scale(self._depth_scale())
+        self.held_contacts = 0
         # after a mode change, every attempt's first pass sets normals anew
         self._rebuild(model.beam_positions(model.state()), reset_normals=self._reset_normals)
+        self._newton_pending, self._tangents = True, 0
+
+    def _check_crossed(self) -> None:
+        """After a converged Newton solve, at the set's evaluation: fibres
+        whose centre lines lie on the wrong side of each other along the
+        normal have passed through each other. Their zone's penalty is
+        raised by the in-step retune when it can be; when it cannot
+        (adapt_penalty off, or at the top of penalty_range), the state is
+        refused: GeometryError, the step is cut."""
+        comm = self.model.comm
+        crossed = _reduce(comm, self.set.zone_crossed(), MPI.SUM) > 0
+        if not np.any(crossed):
+            return
+        k, _ = self._zone_state()
+        stuck = crossed & ~(self.options.adapt_penalty
+                            & (k < self.adaptation.k_max * (1 - 1e-12)))
+        if not np.any(stuck):
+            return
+        d = self.set.data()
+        mine = np.flatnonzero(stuck[d["zone"]] & (d["separation"] < 0)) \
+            if len(d["zone"]) else np.zeros(0, dtype=int)
+        words = ""
+        if len(mine):
+            e = mine[np.argmin(d["separation"][mine])]
+            i, j = d["fibre_i"][e], d["fibre_j"][e]
+            words = (f"fibres {i} and {j} have passed through each other (centre lines "
+                     f"{-d['separation'][e] / self.radius[[i, j]].min():.3g} radii past each "
+                     f"other along the contact normal, at abscissas {d['s_i'][e]:.4g} and "
+                     f"{d['s_j'][e]:.4g})")
+        words = "; ".join(w for w in comm.allgather(words) if w)
+        why = "adapt_penalty is off" if not self.options.adapt_penalty else \
+            "their penalty is at the top of penalty_range"
+        raise _cpp.GeometryError(f"{words}, and {why}: the contact cannot push them back "
+                                 f"(a stiffer penalty or smaller steps)")
 
     def update(self, model) -> bool:
         self.updates += 1
         q = model.beam_positions(model.state())
         self.set.evaluate(q)
+        self._check_crossed()
         emergency = self._retune(in_step=True)
         self.emergency_retunes += emergency
-        changed = self._rebuild(q)
-        return changed or emergency > 0
+        changed = self._rebuild(q) or emergency > 0
+        # another Newton solve follows only if something changed (not, e.g.,
+        # the stability check's factorization at the converged state)
+        self._newton_pending, self._tangents = changed, 0
+        return changed
 
     def commit(self, model) -> None:
         self._reset_normals = False
@@ -409,6 +491,13 @@ class FibreContact(Effect):
     def jacobian(self, state: State, A) -> None:
         q = self.model.beam_positions(state)
         self.set.set_depth_scale(self._depth_scale())
+        # the first tangents of a Newton solve keep a floor that decays by
+        # FLOOR_DECAY an iteration (first contact at zero gap, see
+        # ContactOptions.tangent_floor)
+        floor = self.options.tangent_floor * FLOOR_DECAY ** self._tangents \
+            if self._newton_pending else 0.0
+        self.set.set_tangent_floor(floor)
+        self._tangents += 1
         self.set.assemble_matrix(q, self.model.beam_global_dofs(state), A)
 
     # -- reporting ----------------------------------------------------------------
@@ -420,9 +509,7 @@ class FibreContact(Effect):
             if len(d["fibre_i"]) else np.zeros(0)
         pen = np.max(-d["gap"][active] / radius[active]) if np.any(active) else 0.0
         # centre lines on the wrong side of each other along the normal
-        # (N . (x0_i - x0_j) = gap + h_i + h_j < 0, h about the radius)
-        crossed = d["gap"] < -(self.radius[d["fibre_i"]] + self.radius[d["fibre_j"]]) \
-            if len(d["gap"]) else np.zeros(0, dtype=bool)
+        crossed = d["separation"] < 0
         # penetration band: each active zone's largest penetration / target
         _, zone_pen = self._zone_state() if self.set.num_zones else (None, np.zeros(0))
         ratio = zone_pen[zone_pen > 0] / self.adaptation.target
@@ -445,6 +532,7 @@ class FibreContact(Effect):
             emergency_retunes=int(self.emergency_retunes),
             penalty_conversions=int(self.penalty_conversions),
             crossed_contacts=int(comm.allreduce(int(crossed.sum()))),
+            held_contacts=int(self.held_contacts),
         )
 
     def statistics(self) -> dict:

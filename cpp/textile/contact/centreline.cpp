@@ -107,16 +107,33 @@ Eigen::Vector3d Centrelines::position(int f, double s) const
   return p;
 }
 
+namespace
+{
+/// dx0/ds on element e of fibre f at local coordinate xi.
+Eigen::Vector3d element_tangent(const Centrelines& c, int f, int e, double xi)
+{
+  double n[3], dn[3];
+  shape(c.order, xi, n, dn);
+  const std::int64_t first = c.fibre_offsets[f] + static_cast<std::int64_t>(c.order) * e;
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  for (int a = 0; a <= c.order; ++a)
+    t += dn[a] * node(c, first + a);
+  return 2.0 * t; // dxi/ds = 2
+}
+} // namespace
+
+Eigen::Vector3d Centrelines::tangent_left(int f, double s) const
+{
+  const auto [e, xi] = locate(*this, f, s);
+  if (xi == -1.0 and e > 0) // an interior node: the element before it
+    return element_tangent(*this, f, e - 1, 1.0);
+  return element_tangent(*this, f, e, xi);
+}
+
 Eigen::Vector3d Centrelines::tangent(int f, double s) const
 {
   const auto [e, xi] = locate(*this, f, s);
-  double n[3], dn[3];
-  shape(order, xi, n, dn);
-  const std::int64_t first = fibre_offsets[f] + static_cast<std::int64_t>(order) * e;
-  Eigen::Vector3d t = Eigen::Vector3d::Zero();
-  for (int a = 0; a <= order; ++a)
-    t += dn[a] * node(*this, first + a);
-  return 2.0 * t; // dxi/ds = 2
+  return element_tangent(*this, f, e, xi);
 }
 
 std::vector<Segment> make_segments(const Centrelines& c)

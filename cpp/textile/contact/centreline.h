@@ -51,6 +51,11 @@ struct Centrelines
   /// normalised; dx0/dxi = 1/2 dx0/ds). At a node shared by two elements the
   /// element on the right is used, except at the fibre's end.
   Eigen::Vector3d tangent(int f, double s) const;
+
+  /// dx0/ds from the element on the left of s: the same as tangent() except
+  /// at an interior node, where a centre line (C0 between elements) may
+  /// have a kink.
+  Eigen::Vector3d tangent_left(int f, double s) const;
 };
 
 /// A straight piece of a centre line used by the broad and narrow phases.

@@ -138,20 +138,23 @@ ContactResult contact_element(const Particle& pi, const Particle& pj,
   const Eigen::Vector3d x0j = centroid(pj, xj, N, -1.0, off_j, G);
   const double hi = support(pi, xi, N, -1.0, 0, G);
   const double hj = support(pj, xj, N, -1.0, off_j, G);
-  out.gap = N.dot(x0i - x0j) - hi - hj + gap_offset;
+  // the weaving stage's offset moves the centre lines apart virtually
+  out.separation = N.dot(x0i - x0j) + gap_offset;
+  out.gap = out.separation - hi - hj;
   const double RN = law.reaction(out.gap), dRN = law.stiffness(out.gap);
+  const double dRN_newton = law.newton_stiffness(out.gap); // the tangent's (a floor)
   out.normal_force = RN;
   Eigen::Map<Eigen::VectorXd> rv(r.data(), n);
   RowMajorMap Km(K.data(), K.empty() ? 0 : n, K.empty() ? 0 : n);
   rv.setZero();
   if (!K.empty())
     Km.setZero();
-  if (RN == 0 and dRN == 0)
+  if (RN == 0 and dRN_newton == 0)
     return out; // open: no force, no stiffness (friction needs R_N > 0)
   rv = -RN * G;
   if (!K.empty())
   {
-    Km.noalias() = -dRN * G * G.transpose();
+    Km.noalias() = -dRN_newton * G * G.transpose();
     // minus R_N times the supports' Hessian (the gradient is already in G)
     Eigen::VectorXd scratch = Eigen::VectorXd::Zero(n);
     support(pi, xi, N, -1.0, 0, scratch, &Km, -RN);

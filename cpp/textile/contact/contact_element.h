@@ -53,6 +53,9 @@ Eigen::Vector3d particle_position(const Particle& p, std::span<const double> x);
 struct ContactResult
 {
   double gap = 0;                             ///< section distance along N (length)
+  /// N . (x0_i - x0_j) (length): negative when the centre lines lie on the
+  /// wrong side of each other along N (the fibres have passed through)
+  double separation = 0;
   double normal_force = 0;                    ///< R_N >= 0
   Eigen::Vector3d tangential_force = Eigen::Vector3d::Zero(); ///< T
   Eigen::Vector3d delta = Eigen::Vector3d::Zero();            ///< Delta
@@ -61,7 +64,9 @@ struct ContactResult
   bool slip = false;
 };
 
-/// Residual and tangent of one contact element.
+/// Residual and tangent of one contact element. The tangent's normal
+/// stiffness is the law's newton_stiffness (normal_law.h), the friction's
+/// dependence on R_N its exact stiffness.
 ///
 /// @param pi, pj    particles on fibres i and j
 /// @param normal    unit normal N (from j towards i), fixed

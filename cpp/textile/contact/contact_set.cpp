@@ -65,13 +65,21 @@ void element_dofs(const ContactElementState& e, std::span<const std::int32_t> do
 /// per-length law times its length (R_N and friction are linear in k).
 RegularizedPenalty element_law(const ContactElementState& e)
 {
-  return RegularizedPenalty(e.penalty * e.length, e.regularization);
+  return RegularizedPenalty(e.penalty * e.length, e.regularization, e.tangent_floor);
 }
 
-/// Open: no force and no stiffness at this gap (for this law, gap >= 0).
+/// Open: no force and no stiffness at this gap (for this law, gap >= 0):
+/// nothing in the residual.
 bool is_open(const RegularizedPenalty& law, double gap)
 {
   return law.reaction(gap) == 0 and law.stiffness(gap) == 0;
+}
+
+/// Nothing in the tangent either (the tangent floor reaches open elements
+/// just before contact).
+bool is_open_in_tangent(const RegularizedPenalty& law, double gap)
+{
+  return is_open(law, gap) and law.newton_stiffness(gap) == 0;
 }
 } // namespace
 
@@ -225,7 +233,7 @@ void ContactSet::assemble_matrix(std::span<const double> q, std::span<const std:
   {
     const auto& e = _elements[k];
     const ElementUnknowns x(e, q);
-    if (is_open(element_law(e), contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj, offset(e))))
+    if (is_open_in_tangent(element_law(e), contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj, offset(e))))
       continue;
     const std::size_t n = x.size();
     _K.resize(n * n); // the kernel overwrites it
@@ -307,6 +315,22 @@ void ContactSet::set_depth_scale(double scale)
   if (!(scale >= 0 and scale <= 1))
     throw std::invalid_argument("ContactSet::set_depth_scale: scale must be in [0, 1]");
   _depth_scale = scale;
+}
+
+std::vector<double> ContactSet::zone_crossed() const
+{
+  std::vector<double> out(_num_zones, 0.0);
+  for (const auto& e : _elements)
+    out[e.zone] += e.result.separation < 0;
+  return out;
+}
+
+void ContactSet::set_tangent_floor(double fraction)
+{
+  if (!(fraction >= 0 and fraction <= 1))
+    throw std::invalid_argument("ContactSet::set_tangent_floor: fraction must be in [0, 1]");
+  for (auto& e : _elements)
+    e.tangent_floor = fraction;
 }
 
 void ContactSet::set_zone_penalties(std::span<const double> k)

@@ -43,6 +43,8 @@ struct ContactElementState
   double length = 0;         ///< contact length it stands for (length, see above)
   double penalty = 0;        ///< k_c per unit length (force/length^2, see above)
   double regularization = 0; ///< g_r (length)
+  double tangent_floor = 0;  ///< fraction of the penalty Newton's tangent keeps near
+                             ///< gap = 0 (regularized_penalty.h)
   RegularizedCoulomb friction{0.0, 1.0};
   Eigen::Vector3d stick = Eigen::Vector3d::Zero(); ///< Delta at the stick point
   /// Weaving: the pair's interpenetration in the reference (straight,
@@ -123,6 +125,9 @@ public:
   std::vector<double> zone_max_penetration() const; ///< largest max(-gap, 0) (length)
   std::vector<double> zone_penalty() const;         ///< largest k_c
   std::vector<double> zone_force() const;           ///< sum of normal forces (force)
+  /// elements whose centre lines lie on the wrong side of each other along
+  /// the normal (separation < 0: the fibres have passed through), per zone
+  std::vector<double> zone_crossed() const;
 
   /// Every element takes its zone's penalty k[zone] (> 0).
   void set_zone_penalties(std::span<const double> k);
@@ -136,6 +141,10 @@ public:
   /// is made up in as many load steps as the stage has, instead of all in
   /// the first Newton iterate (which a step cut could not make smaller).
   void set_depth_scale(double scale);
+
+  /// Every element's tangent floor (a fraction of its penalty in [0, 1],
+  /// regularized_penalty.h): what Newton's next tangents keep near gap = 0.
+  void set_tangent_floor(double fraction);
 
   /// Seconds spent in assemble_vector and assemble_matrix since the last
   /// reset: in the element kernels (contact_element), and in all.

@@ -19,6 +19,7 @@ struct Detection
   std::vector<ProximityZone> zones;
   std::vector<ContactPoint> points;
   std::vector<int> zone_of_point;
+  int held = 0; ///< points added by add_held_contacts (held_contact.h)
 };
 
 /// Find zones closer than delta_factor (r_i + r_j) and place their contact

@@ -96,13 +96,13 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
     }
   }
   const std::vector<int> match = match_history(points, previous);
-  // an ordinary crossing with a predecessor: where the fibres face each
-  // other along the predecessor's normal (vertical_crossing.h; also right
-  // after the weaving stage, whose vertical normals place it best)
+  // a woven crossing with a predecessor (ordinary contact after weaving):
+  // where the fibres face each other along the predecessor's normal
+  // (vertical_crossing.h; right after the weaving stage, the vertical)
   std::vector<char> relocated(points.size(), 0);
   for (std::size_t k = 0; k < points.size(); ++k)
-    if (keep[k] and points[k].crossing and match[k] >= 0
-        and !(par.weaving and par.weaving->sign(points[k].fibre_i, points[k].fibre_j) != 0))
+    if (par.woven and keep[k] and points[k].crossing and match[k] >= 0
+        and par.woven->sign(points[k].fibre_i, points[k].fibre_j) != 0)
       relocated[k] = facing_crossing(c, points[k], previous[match[k]].normal);
   ZoneInheritance zones{std::vector<double>(nz, 0.0),
                         std::vector<int>(nz, std::numeric_limits<int>::max()),
@@ -136,6 +136,8 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
       normal = order * Eigen::Vector3d::UnitZ();
       place_particles(c, SectionVectors{q, 9, 3}, p, -normal);
     }
+    else if (p.held_normal.squaredNorm() > 0)
+      normal = p.held_normal; // the fibres have crossed along it: keep it
     else
     {
       normal = contact_normal(p.tangent_i, p.tangent_j, p.tangent, p.centroid_gap,

@@ -61,6 +61,12 @@ struct ElementParameters
   /// Ignore the old elements' normals (the contact mode changed): normals
   /// are set from the geometry again; penalties and stick points carry.
   bool reset_normals = false;
+  /// A woven fabric's crossing order after the weaving stage (ordinary
+  /// contact): crossings of fibres of ordered yarns are placed where the
+  /// fibres face each other along the predecessor's normal, turning it half
+  /// way (vertical_crossing.h): woven fibres are bent around each other.
+  /// nullptr: closest points, as detection found them.
+  const WeavingOrder* woven = nullptr;
 };
 
 /// The contact set of detection pass d at state q (all nodes, 9 unknowns

@@ -37,18 +37,9 @@ struct GaussLegendre2
 /// Abscissa on fibre i / j at intermediate parameter s.
 double along(double a, double b, double s) { return (1.0 - s) * a + s * b; }
 
-Eigen::Vector3d unit_tangent(const Centrelines& c, int f, double s)
-{
-  return c.tangent(f, s).normalized();
-}
-
-/// Mean of two unit tangents, the second flipped if the fibres run in
-/// opposite directions (the intermediate geometry has no orientation).
-Eigen::Vector3d mean_tangent(const Eigen::Vector3d& ti, const Eigen::Vector3d& tj)
-{
-  const Eigen::Vector3d t = ti + (ti.dot(tj) >= 0 ? tj : Eigen::Vector3d(-tj));
-  return t.normalized();
-}
+/// Crossings whose closest points lie closer than this (in element
+/// coordinates) to a node are placed at the node (see contact_points).
+constexpr double node_snap = 2e-3;
 
 Eigen::Vector3d intermediate_point(const Centrelines& c, const ProximityZone& z, double s)
 {
@@ -84,6 +75,23 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> SectionVectors::at(const Centrelines
     g2 += n[a] * Eigen::Map<const Eigen::Vector3d>(g.data() + k + 3);
   }
   return {g1, g2};
+}
+
+Eigen::Vector3d unit_tangent(const Centrelines& c, int f, double s)
+{
+  return (c.tangent(f, s).normalized() + c.tangent_left(f, s).normalized()).normalized();
+}
+
+Eigen::Vector3d mean_tangent(const Eigen::Vector3d& ti, const Eigen::Vector3d& tj)
+{
+  const Eigen::Vector3d t = ti + (ti.dot(tj) >= 0 ? tj : Eigen::Vector3d(-tj));
+  return t.normalized();
+}
+
+double snapped(double s)
+{
+  const double node = std::round(s);
+  return std::abs(s - node) < node_snap ? node : s;
 }
 
 double crossing_length(double r_i, double r_j) { return r_i + r_j; }
@@ -151,29 +159,6 @@ void place_particles(const Centrelines& c, const SectionVectors& g, ContactPoint
   p.xi2_i = qi(1);
   p.xi1_j = qj(0);
   p.xi2_j = qj(1);
-}
-
-std::pair<double, double> closest_points(const Centrelines& c, int f, double s, int g, double t)
-{
-  const double sf = c.num_elements(f), sg = c.num_elements(g);
-  for (int it = 0; it < 30; ++it)
-  {
-    const Eigen::Vector3d r = c.position(f, s) - c.position(g, t);
-    const Eigen::Vector3d a = c.tangent(f, s), b = -c.tangent(g, t);
-    Eigen::Matrix2d JtJ;
-    JtJ << a.dot(a), a.dot(b), a.dot(b), b.dot(b);
-    const Eigen::Vector2d rhs(-a.dot(r), -b.dot(r));
-    if (std::abs(JtJ.determinant()) <= 1e-12 * JtJ.trace() * JtJ.trace())
-      break; // parallel tangents: no unique closest pair
-    const Eigen::Vector2d d = JtJ.ldlt().solve(rhs);
-    const double s1 = std::clamp(s + d(0), 0.0, sf), t1 = std::clamp(t + d(1), 0.0, sg);
-    const bool done = std::abs(s1 - s) + std::abs(t1 - t) < 1e-13;
-    s = s1;
-    t = t1;
-    if (done)
-      break;
-  }
-  return {s, t};
 }
 
 bool is_crossing(const Centrelines& c, const ProximityZone& z, double parallel_angle,
@@ -279,7 +264,14 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
     p.length = lengths[l];
     if (crossing)
     {
+      // A fibre bent over another has a kink at the node under the force,
+      // and the closest point of its quadratic elements may sit a hair off
+      // that node, on either side from one pass to the next (each side's
+      // force puts the next minimum on the other): the loops 1-2 would never
+      // settle. Within node_snap of a node, the crossing is at the node.
       std::tie(p.s_i, p.s_j) = closest_points(c, z.fibre_i, z.s_i, z.fibre_j, z.s_j);
+      p.s_i = snapped(p.s_i);
+      p.s_j = snapped(p.s_j);
       p.tangent = mean_tangent(unit_tangent(c, z.fibre_i, p.s_i),
                                unit_tangent(c, z.fibre_j, p.s_j));
     }

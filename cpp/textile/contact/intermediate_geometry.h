@@ -11,6 +11,7 @@
 #pragma once
 
 #include "centreline.h"
+#include "closest_points.h"
 #include "proximity_zone.h"
 
 #include <Eigen/Dense>
@@ -54,7 +55,24 @@ struct ContactPoint
   Eigen::Vector3d tangent_i, tangent_j; ///< unit centre-line tangents at s_i, s_j
   Eigen::Vector3d tangent;             ///< unit intermediate tangent
   Eigen::Vector3d centroid_gap;        ///< x0_i(s_i) - x0_j(s_j)
+  /// The normal of an earlier pass held for this point (held_contact.h):
+  /// its fibres have crossed along it. Zero: the normal is set anew.
+  Eigen::Vector3d held_normal = Eigen::Vector3d::Zero();
 };
+
+/// Unit tangent of fibre f at abscissa s; at a node, the bisector of the
+/// two elements' tangents (a kink's, where a force bends the fibre).
+Eigen::Vector3d unit_tangent(const Centrelines& c, int f, double s);
+
+/// Mean of two unit tangents, the second flipped if the fibres run in
+/// opposite directions (an intermediate geometry has no orientation).
+Eigen::Vector3d mean_tangent(const Eigen::Vector3d& ti, const Eigen::Vector3d& tj);
+
+/// A crossing's abscissa s, or the node it lies within 2e-3 of (in element
+/// coordinates): the closest point of a fibre bent over another sits at
+/// the kink under the force, or a hair off it on either side from one
+/// pass to the next (contact_points).
+double snapped(double s);
 
 /// Equivalent contact length of a crossing (point contact) between fibres
 /// of radii r_i and r_j: r_i + r_j, the distance of their centre lines at
@@ -112,10 +130,6 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
 /// @throws GeometryError if the direction is along a fibre's axis.
 void place_particles(const Centrelines& c, const SectionVectors& g, ContactPoint& p,
                      const Eigen::Vector3d& towards_j);
-
-/// Closest points of the centre lines of fibres f and g near (s, t):
-/// Gauss-Newton on |x_f(s) - x_g(t)|^2, clamped to the fibres.
-std::pair<double, double> closest_points(const Centrelines& c, int f, double s, int g, double t);
 
 /// Abscissa on fibre f where the plane through `point` orthogonal to
 /// `normal` cuts the centre line, searched from `guess` (Newton with

@@ -15,6 +15,10 @@ public:
   virtual double reaction(double gap) const = 0;
   /// dR_N/dgap <= 0 (force per length).
   virtual double stiffness(double gap) const = 0;
+  /// The stiffness Newton's tangent uses (<= stiffness(gap) <= 0): a law
+  /// may make it stiffer than the exact one where that is near zero (first
+  /// contact), which changes Newton's path, never the converged answer.
+  virtual double newton_stiffness(double gap) const { return stiffness(gap); }
 };
 
 } // namespace textile::contact

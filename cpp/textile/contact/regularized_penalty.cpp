@@ -1,12 +1,16 @@
 #include "regularized_penalty.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace textile::contact
 {
-RegularizedPenalty::RegularizedPenalty(double k, double g_r) : _k(k), _gr(g_r)
+RegularizedPenalty::RegularizedPenalty(double k, double g_r, double floor)
+    : _k(k), _gr(g_r), _floor(floor)
 {
+  if (!(floor >= 0 and floor <= 1))
+    throw std::invalid_argument("RegularizedPenalty: the tangent floor must be in [0, 1]");
   if (!(k > 0) or !std::isfinite(k))
     throw std::invalid_argument("RegularizedPenalty: penalty must be positive and finite");
   if (!(g_r > 0) or !std::isfinite(g_r))
@@ -29,6 +33,12 @@ double RegularizedPenalty::stiffness(double gap) const
   if (gap > -_gr)
     return _k * gap / _gr;
   return -_k;
+}
+
+double RegularizedPenalty::newton_stiffness(double gap) const
+{
+  const double exact = stiffness(gap);
+  return gap < _gr ? std::min(exact, -_floor * _k) : exact;
 }
 
 double RegularizedPenalty::penetration(double R) const
