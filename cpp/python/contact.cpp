@@ -165,21 +165,35 @@ void declare_contact(py::module_& m)
       "detect_contacts",
       [](const carray<double>& q, const carray<std::int64_t>& first_node, int order,
          const carray<double>& radius, double delta_factor, double self_exclusion, double spacing,
-         double parallel_angle, const py::object& held)
+         double parallel_angle, const py::object& held, const WeavingOrder* weaving,
+         const carray<double>& wraps)
       {
         Geometry geo(q, first_node, order, radius);
         const SectionVectors g{geo.g};
-        Detection d = detect(geo.lines, g, delta_factor, self_exclusion, spacing, parallel_angle);
+        if (wraps.size() % 4 != 0)
+          throw std::invalid_argument("detect_contacts: wraps must be (n, 4)");
+        std::vector<WrapMark> marks(wraps.size() / 4);
+        for (std::size_t k = 0; k < marks.size(); ++k)
+        {
+          const double* w = wraps.data() + 4 * k;
+          marks[k] = {static_cast<int>(w[0]), static_cast<int>(w[1]), w[2], w[3]};
+        }
+        Detection d = detect(geo.lines, g, delta_factor, self_exclusion, spacing, parallel_angle,
+                             weaving, marks);
         if (!held.is_none())
           d.held = add_held_contacts(d, geo.lines, g, held_from_arrays(held.cast<py::dict>()));
         return d;
       },
       py::arg("q"), py::arg("first_node"), py::arg("order"), py::arg("radius"),
       py::arg("delta_factor"), py::arg("self_exclusion"), py::arg("spacing"),
-      py::arg("parallel_angle"), py::arg("held") = py::none(),
+      py::arg("parallel_angle"), py::arg("held") = py::none(), py::arg("weaving") = nullptr,
+      py::arg("wraps") = carray<double>(),
       "One detection pass on the current nodal unknowns q (nodes x 9): a Detection. `held`: "
       "contacts of the last pass not to lose (ContactSet.contacts_to_hold, gathered from "
-      "every rank), kept as zones of their own where detection finds none.");
+      "every rank), kept as zones of their own where detection finds none. `weaving`: the "
+      "WeavingOrder of the weaving mode (its ordered pairs keep point crossings). `wraps`: "
+      "(n, 4) fibre_i, fibre_j, s_i, s_j of the last pass's wraps, gathered from every rank "
+      "(ContactSet.wrap_marks): the wrap criterion's hysteresis.");
 
   py::class_<WeavingOrder>(m, "WeavingOrder",
                            "Crossing order of the weaving stage: fibre -> yarn, and "
@@ -283,6 +297,19 @@ void declare_contact(py::module_& m)
       .def("zone_penalty", [](const ContactSet& self) { return array_of(self.zone_penalty()); })
       .def("zone_force", [](const ContactSet& self) { return array_of(self.zone_force()); })
       .def("zone_crossed", [](const ContactSet& self) { return array_of(self.zone_crossed()); })
+      .def("wrap_marks",
+           [](const ContactSet& self)
+           {
+             const auto marks = wrap_marks(self);
+             carray<double> out({marks.size(), std::size_t(4)});
+             for (std::size_t k = 0; k < marks.size(); ++k)
+               for (const auto& [c, v] : {std::pair{0, double(marks[k].fibre_i)},
+                                          std::pair{1, double(marks[k].fibre_j)},
+                                          std::pair{2, marks[k].s_i}, std::pair{3, marks[k].s_j}})
+                 out.mutable_at(k, c) = v;
+             return out;
+           },
+           "(n, 4): fibre_i, fibre_j, s_i, s_j of one element of each of this rank's wraps.")
       .def(
           "contacts_to_hold",
           [](const ContactSet& self, const carray<double>& q,

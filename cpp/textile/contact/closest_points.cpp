@@ -75,4 +75,21 @@ std::pair<double, double> closest_points(const Centrelines& c, int f, double s, 
   }
   return {u.value, v.value};
 }
+double project_onto(const Centrelines& c, int f, const Eigen::Vector3d& point, double s)
+{
+  Abscissa u{std::clamp(s, 0.0, double(c.num_elements(f))), double(c.num_elements(f))};
+  for (int it = 0; it < 60; ++it)
+  {
+    const Eigen::Vector3d r = c.position(f, u.value) - point;
+    u.choose(c, f, r, 1.0);
+    if (u.locked)
+      break;
+    const Eigen::Vector3d& a = u.derivative;
+    const double ds = u.limited(-a.dot(r) / a.dot(a));
+    u.value += ds;
+    if (std::abs(ds) < 1e-13)
+      break;
+  }
+  return u.value;
+}
 } // namespace textile::contact

@@ -3,6 +3,8 @@
 
 #include "centreline.h"
 
+#include <Eigen/Core>
+
 #include <utility>
 
 namespace textile::contact
@@ -21,5 +23,10 @@ namespace textile::contact
 /// iteration (or one detection pass) to the next.
 /// Parallel tangents (no unique closest pair) keep the start.
 std::pair<double, double> closest_points(const Centrelines& c, int f, double s, int g, double t);
+
+/// Closest point (abscissa) of fibre f's centre line to `point`, searched
+/// from s, within [0, ne]: the same search with one abscissa (nodes and
+/// kinks as above).
+double project_onto(const Centrelines& c, int f, const Eigen::Vector3d& point, double s);
 
 } // namespace textile::contact

@@ -11,6 +11,14 @@ namespace textile::contact
 /// each other (crossing normal) rather than side by side in one plane.
 inline constexpr double crossing_separation = 0.5;
 
+/// The centroid-to-centroid direction orthogonal to the unit tangent t
+/// (from the centroid gap d = x0_i - x0_j), as a unit normal oriented like
+/// contact_normal's; when the centroids lie on one line along t, the
+/// previous normal (or any direction) orthogonal to t.
+Eigen::Vector3d centroid_normal(const Eigen::Vector3d& tangent,
+                                const Eigen::Vector3d& centroid_gap,
+                                const Eigen::Vector3d& previous);
+
 /// Unit normal N of the plane that shields particle i from particle j,
 /// pointing from fibre j towards fibre i (so gap = N . (x_i - x_j)).
 ///

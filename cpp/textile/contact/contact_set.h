@@ -36,6 +36,7 @@ struct ContactElementState
   double s_i = 0, s_j = 0;       ///< their abscissas (element coordinates)
   int zone = 0;                  ///< proximity zone of this pass
   bool crossing = false;         ///< the element of a crossing (else of a line contact)
+  bool wrap = false;             ///< an element of a wrap (wrap_contact.h)
   std::array<std::int64_t, 3> nodes_i{-1, -1, -1}; ///< global nodes of the element on fibre i
   std::array<std::int64_t, 3> nodes_j{-1, -1, -1}; ///< and on fibre j
   Particle particle_i, particle_j;

@@ -1,23 +1,50 @@
 #include "detection.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace textile::contact
 {
 Detection detect(const Centrelines& c, const SectionVectors& g, double delta_factor,
-                 double self_exclusion, double spacing, double parallel_angle)
+                 double self_exclusion, double spacing, double parallel_angle,
+                 const WeavingOrder* weaving, std::span<const WrapMark> previous_wraps)
 {
   Detection d;
   d.zones = find_proximity_zones(c, delta_factor, self_exclusion);
   for (std::size_t z = 0; z < d.zones.size(); ++z)
   {
-    for (auto& p : contact_points(c, g, d.zones[z], spacing, parallel_angle, delta_factor))
+    const ProximityZone& zone = d.zones[z];
+    const bool ordered = weaving and weaving->sign(zone.fibre_i, zone.fibre_j) != 0;
+    const bool was_wrap = std::any_of(
+        previous_wraps.begin(), previous_wraps.end(),
+        [&](const WrapMark& w)
+        {
+          return w.fibre_i == zone.fibre_i and w.fibre_j == zone.fibre_j
+                 and w.s_i >= zone.a_i - 1 and w.s_i <= zone.b_i + 1 and w.s_j >= zone.a_j - 1
+                 and w.s_j <= zone.b_j + 1;
+        });
+    const double wrap_angle = ordered ? -1.0 : was_wrap ? 0.5 * parallel_angle : parallel_angle;
+    for (auto& p : contact_points(c, g, zone, spacing, parallel_angle, delta_factor,
+                                  Eigen::Vector3d::Zero(), wrap_angle))
     {
       d.points.push_back(p);
       d.zone_of_point.push_back(static_cast<int>(z));
     }
   }
   return d;
+}
+
+std::vector<WrapMark> wrap_marks(const ContactSet& set)
+{
+  std::vector<WrapMark> out;
+  std::vector<char> seen(set.num_zones(), 0);
+  for (const auto& e : set.elements())
+    if (e.wrap and !seen[e.zone])
+    {
+      seen[e.zone] = 1;
+      out.push_back({e.fibre_i, e.fibre_j, e.s_i, e.s_j});
+    }
+  return out;
 }
 
 ContactElementState make_element(const Centrelines& c, const ContactPoint& p, int zone,
@@ -32,6 +59,7 @@ ContactElementState make_element(const Centrelines& c, const ContactPoint& p, in
   e.s_j = p.s_j;
   e.zone = zone;
   e.crossing = p.crossing;
+  e.wrap = p.wrap;
   e.length = p.length;
   const int nn = c.order + 1;
   e.particle_i = {nn, element_of(c, p.fibre_i, p.s_i, e.nodes_i), p.xi1_i, p.xi2_i,

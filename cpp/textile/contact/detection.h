@@ -6,6 +6,7 @@
 #include "contact_set.h"
 #include "intermediate_geometry.h"
 #include "proximity_zone.h"
+#include "weaving_order.h"
 
 #include <span>
 #include <vector>
@@ -22,10 +23,33 @@ struct Detection
   int held = 0; ///< points added by add_held_contacts (held_contact.h)
 };
 
+/// Where the last pass had a wrap (wrap_contact.h): the fibres and
+/// abscissas of one of its elements.
+struct WrapMark
+{
+  int fibre_i = 0, fibre_j = 0;
+  double s_i = 0, s_j = 0;
+};
+
+/// One element of each of the set's wraps (this rank's; gather them from
+/// every rank for detect, which is replicated).
+std::vector<WrapMark> wrap_marks(const ContactSet& set);
+
 /// Find zones closer than delta_factor (r_i + r_j) and place their contact
-/// elements (see contact_points; parallel_angle in radians).
+/// elements (see contact_points; parallel_angle in radians). A crossing zone
+/// becomes a wrap when a fibre turns by more than parallel_angle over it,
+/// or by more than half that where the last pass had a wrap
+/// (`previous_wraps`, within one element on both fibres): a fibre pressed
+/// at one point kinks, spread along a wrap it straightens, and without this
+/// hysteresis a zone near the threshold would flip between the two kinds
+/// from pass to pass. Pairs that `weaving` orders (weaving_order.h) keep
+/// point crossings, never wraps: their vertical normal measures the
+/// penetration through the crossing, while along a wrap, away from it, the
+/// vertical distance between facing points is no penetration.
 Detection detect(const Centrelines& c, const SectionVectors& g, double delta_factor,
-                 double self_exclusion, double spacing, double parallel_angle);
+                 double self_exclusion, double spacing, double parallel_angle,
+                 const WeavingOrder* weaving = nullptr,
+                 std::span<const WrapMark> previous_wraps = {});
 
 /// The contact element of point p of this pass, with its history.
 ///

@@ -73,8 +73,8 @@ int add_held_contacts(Detection& d, const Centrelines& c, const SectionVectors& 
     if (h.crossing)
     {
       std::tie(p.s_i, p.s_j) = closest_points(c, h.fibre_i, h.s_i, h.fibre_j, h.s_j);
-      p.s_i = snapped(p.s_i);
-      p.s_j = snapped(p.s_j);
+      p.s_i = snapped(c, h.fibre_i, p.s_i);
+      p.s_j = snapped(c, h.fibre_j, p.s_j);
     }
     p.tangent_i = unit_tangent(c, h.fibre_i, p.s_i);
     p.tangent_j = unit_tangent(c, h.fibre_j, p.s_j);

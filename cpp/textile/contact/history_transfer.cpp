@@ -138,6 +138,8 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
     }
     else if (p.held_normal.squaredNorm() > 0)
       normal = p.held_normal; // the fibres have crossed along it: keep it
+    else if (p.wrap)
+      normal = centroid_normal(p.tangent, p.centroid_gap, previous_normal);
     else
     {
       normal = contact_normal(p.tangent_i, p.tangent_j, p.tangent, p.centroid_gap,

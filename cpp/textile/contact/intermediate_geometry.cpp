@@ -1,6 +1,7 @@
 #include "intermediate_geometry.h"
 #include "../beam/shape_functions.h"
 #include "../geometry_error.h"
+#include "wrap_contact.h"
 
 #include <algorithm>
 #include <cmath>
@@ -38,8 +39,12 @@ struct GaussLegendre2
 double along(double a, double b, double s) { return (1.0 - s) * a + s * b; }
 
 /// Crossings whose closest points lie closer than this (in element
-/// coordinates) to a node are placed at the node (see contact_points).
-constexpr double node_snap = 2e-3;
+/// coordinates) to a node are placed at the node, and closer than
+/// kink_snap to a node where the centre line kinks by more than kink_angle
+/// (radians) (see snapped).
+constexpr double node_snap = 1e-2;
+constexpr double kink_snap = 0.1;
+constexpr double kink_angle = 1e-3;
 
 Eigen::Vector3d intermediate_point(const Centrelines& c, const ProximityZone& z, double s)
 {
@@ -88,10 +93,16 @@ Eigen::Vector3d mean_tangent(const Eigen::Vector3d& ti, const Eigen::Vector3d& t
   return t.normalized();
 }
 
-double snapped(double s)
+double snapped(const Centrelines& c, int f, double s)
 {
   const double node = std::round(s);
-  return std::abs(s - node) < node_snap ? node : s;
+  const double off = std::abs(s - node);
+  if (off < node_snap)
+    return node;
+  if (off >= kink_snap or node <= 0 or node >= c.num_elements(f))
+    return s;
+  const double cosine = c.tangent(f, node).normalized().dot(c.tangent_left(f, node).normalized());
+  return cosine < std::cos(kink_angle) ? node : s;
 }
 
 double crossing_length(double r_i, double r_j) { return r_i + r_j; }
@@ -179,14 +190,74 @@ bool is_crossing(const Centrelines& c, const ProximityZone& z, double parallel_a
   return d0 > threshold and d1 > threshold;
 }
 
+void add_element_cuts(double a, double b, std::vector<double>& cuts)
+{
+  if (b - a > 1e-12)
+    for (double k = std::ceil(a); k < b; k += 1.0)
+      if (k > a)
+        cuts.push_back((k - a) / (b - a));
+}
+
+std::pair<std::vector<double>, std::vector<double>>
+composite_gauss_rule(std::vector<double> cuts, double length, double spacing)
+{
+  cuts.push_back(0.0);
+  cuts.push_back(1.0);
+  std::sort(cuts.begin(), cuts.end());
+  // Cuts of the two fibres that nearly coincide (parallel fibres meshed
+  // alike, slid by a fraction of a radius) would leave pieces far shorter
+  // than the spacing, each with two elements that carry next to nothing but
+  // cost as much as the others: a piece shorter than merge_fraction x
+  // spacing is merged into its neighbour.
+  std::vector<double> kept = {cuts.front()};
+  for (std::size_t k = 1; k < cuts.size(); ++k)
+    if ((cuts[k] - kept.back()) * length >= merge_fraction * spacing)
+      kept.push_back(cuts[k]);
+  if (kept.size() > 1 and (1.0 - kept.back()) * length < merge_fraction * spacing)
+    kept.pop_back();
+  if (kept.back() != 1.0)
+    kept.push_back(1.0);
+  // a state far outside the fibres' scale (a diverged iterate) would ask
+  // for an absurd number of elements: refuse it, the step is cut
+  if (!(length <= max_points_per_zone * spacing))
+    throw GeometryError("contact zone of length " + std::to_string(length)
+                        + " for an element spacing of " + std::to_string(spacing)
+                        + ": implausible state");
+  std::vector<double> params, weights;
+  const GaussLegendre2 gl;
+  for (std::size_t k = 0; k + 1 < kept.size(); ++k)
+  {
+    const double s0 = kept[k], s1 = kept[k + 1], ds = s1 - s0;
+    if (ds * length < 1e-9 * spacing)
+      continue; // a zone of (next to) no length
+    // pieces of about 2 x spacing at most: the default spacing (half an
+    // element) gives one piece per element, and keeps giving one when the
+    // zone stretches by a hair (a strict bound would double the elements of
+    // a zone between two passes for a strain of 1e-9)
+    const double pieces = ds * length / (2.0 * spacing);
+    const int parts = std::max(1, static_cast<int>(std::ceil(pieces - piece_tolerance)));
+    for (int m = 0; m < parts; ++m)
+      for (int gpt = 0; gpt < 2; ++gpt)
+      {
+        const double h = ds / parts;
+        params.push_back(s0 + h * (m + 0.5 * (1.0 + gl.x[gpt])));
+        weights.push_back(0.5 * h); // Gauss weights are 1 on [-1, 1]
+      }
+  }
+  return {params, weights};
+}
+
 std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVectors& g,
                                          const ProximityZone& z, double spacing,
                                          double parallel_angle, double delta_factor,
-                                         const Eigen::Vector3d& fallback)
+                                         const Eigen::Vector3d& fallback, double wrap_angle)
 {
   if (!(spacing > 0) or !std::isfinite(spacing))
     throw std::invalid_argument("contact_points: spacing must be positive and finite");
   const bool crossing = is_crossing(c, z, parallel_angle, delta_factor);
+  if (crossing and wrap_angle >= 0)
+    if (const int wrapping = wrapping_fibre(c, z, wrap_angle, 2 * spacing); wrapping >= 0)
+      return wrap_points(c, g, z, wrapping, spacing); // wrap_contact.h
   const double length = intermediate_length(c, z);
   // parameters and contact lengths of the elements on the intermediate geometry
   std::vector<double> params, lengths;
@@ -203,53 +274,13 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
     // contact nodal forces equal to the consistent nodal forces of a uniform
     // line load (the patch test), which collocation at evenly spaced points
     // fails; and the forces do not depend on `spacing`.
-    std::vector<double> cuts = {0.0, 1.0};
-    for (const auto& [a, b] : {std::pair{z.a_i, z.b_i}, std::pair{z.a_j, z.b_j}})
-      if (b - a > 1e-12)
-        for (double k = std::ceil(a); k < b; k += 1.0)
-          if (k > a)
-            cuts.push_back((k - a) / (b - a));
-    std::sort(cuts.begin(), cuts.end());
-    // Cuts of the two fibres that nearly coincide (parallel fibres meshed
-    // alike, slid by a fraction of a radius) would leave pieces far
-    // shorter than the spacing, each with two elements that carry next to
-    // nothing but cost as much as the others: a piece shorter than
-    // merge_fraction x spacing is merged into its neighbour.
-    std::vector<double> kept = {cuts.front()};
-    for (std::size_t k = 1; k < cuts.size(); ++k)
-      if ((cuts[k] - kept.back()) * length >= merge_fraction * spacing)
-        kept.push_back(cuts[k]);
-    if (kept.size() > 1 and (1.0 - kept.back()) * length < merge_fraction * spacing)
-      kept.pop_back();
-    if (kept.back() != 1.0)
-      kept.push_back(1.0);
-    cuts = std::move(kept);
-    // a state far outside the fibres' scale (a diverged iterate) would ask
-    // for an absurd number of elements: refuse it, the step is cut
-    if (!(length <= max_points_per_zone * spacing))
-      throw GeometryError("contact zone of intermediate length " + std::to_string(length)
-                          + " for an element spacing of " + std::to_string(spacing)
-                          + ": implausible state");
-    const GaussLegendre2 gl;
-    for (std::size_t k = 0; k + 1 < cuts.size(); ++k)
-    {
-      const double s0 = cuts[k], s1 = cuts[k + 1], ds = s1 - s0;
-      if (ds * length < 1e-9 * spacing)
-        continue; // a zone of (next to) no length
-      // pieces of about 2 x spacing at most: the default spacing (half an
-      // element) gives one piece per element, and keeps giving one when the
-      // zone stretches by a hair (a strict bound would double the elements
-      // of a zone between two passes for a strain of 1e-9)
-      const double pieces = ds * length / (2.0 * spacing);
-      const int parts = std::max(1, static_cast<int>(std::ceil(pieces - piece_tolerance)));
-      for (int m = 0; m < parts; ++m)
-        for (int gpt = 0; gpt < 2; ++gpt)
-        {
-          const double h = ds / parts;
-          params.push_back(s0 + h * (m + 0.5 * (1.0 + gl.x[gpt])));
-          lengths.push_back(0.5 * h * length); // Gauss weights are 1 on [-1, 1]
-        }
-    }
+    std::vector<double> cuts;
+    add_element_cuts(z.a_i, z.b_i, cuts);
+    add_element_cuts(z.a_j, z.b_j, cuts);
+    std::vector<double> weights;
+    std::tie(params, weights) = composite_gauss_rule(std::move(cuts), length, spacing);
+    for (double w : weights)
+      lengths.push_back(w * length);
   }
   const std::size_t nc = params.size();
   std::vector<ContactPoint> out;
@@ -270,8 +301,8 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
       // force puts the next minimum on the other): the loops 1-2 would never
       // settle. Within node_snap of a node, the crossing is at the node.
       std::tie(p.s_i, p.s_j) = closest_points(c, z.fibre_i, z.s_i, z.fibre_j, z.s_j);
-      p.s_i = snapped(p.s_i);
-      p.s_j = snapped(p.s_j);
+      p.s_i = snapped(c, z.fibre_i, p.s_i);
+      p.s_j = snapped(c, z.fibre_j, p.s_j);
       p.tangent = mean_tangent(unit_tangent(c, z.fibre_i, p.s_i),
                                unit_tangent(c, z.fibre_j, p.s_j));
     }

@@ -51,6 +51,7 @@ struct ContactPoint
   double xi1_j = 0, xi2_j = 0;         ///< particle of fibre j
   double parameter = 0;                ///< position in [0, 1] on the intermediate geometry
   bool crossing = false;               ///< a crossing's single element (else one of a line contact's)
+  bool wrap = false;                   ///< an element of a wrap (wrap_contact.h)
   double length = 0;                   ///< contact length it stands for (see crossing_length)
   Eigen::Vector3d tangent_i, tangent_j; ///< unit centre-line tangents at s_i, s_j
   Eigen::Vector3d tangent;             ///< unit intermediate tangent
@@ -68,11 +69,16 @@ Eigen::Vector3d unit_tangent(const Centrelines& c, int f, double s);
 /// opposite directions (an intermediate geometry has no orientation).
 Eigen::Vector3d mean_tangent(const Eigen::Vector3d& ti, const Eigen::Vector3d& tj);
 
-/// A crossing's abscissa s, or the node it lies within 2e-3 of (in element
-/// coordinates): the closest point of a fibre bent over another sits at
-/// the kink under the force, or a hair off it on either side from one
-/// pass to the next (contact_points).
-double snapped(double s);
+/// A crossing's abscissa s on fibre f, or the nearest node if s lies within
+/// 1e-2 of it (in element coordinates), or within 0.1 of it where the
+/// centre line has a kink (its elements' tangents differ by more than
+/// 1e-3 rad there). A fibre pressed at one point by another kinks at the
+/// node under the force; its quadratic elements bulge next to the kink, and
+/// the closest point lands a little off the node on the side of the last
+/// force, then on the other side in the next pass (each side's force puts
+/// the next minimum on the other): without this the loops 1-2 would not
+/// settle (contact_points).
+double snapped(const Centrelines& c, int f, double s);
 
 /// Equivalent contact length of a crossing (point contact) between fibres
 /// of radii r_i and r_j: r_i + r_j, the distance of their centre lines at
@@ -93,6 +99,20 @@ double intermediate_length(const Centrelines& c, const ProximityZone& z, int sam
 /// up to a fibre end: they touch along a line.
 bool is_crossing(const Centrelines& c, const ProximityZone& z, double parallel_angle,
                  double delta_factor);
+
+/// Element boundaries of a fibre strictly inside (a, b) (abscissas),
+/// appended to `cuts` as fractions of [a, b].
+void add_element_cuts(double a, double b, std::vector<double>& cuts);
+
+/// A composite 2-point Gauss rule on [0, 1] for a curve of `length`: cut at
+/// `cuts` (fractions, any order; pieces shorter than spacing / 1000
+/// merged into a neighbour), each piece cut again into parts of about
+/// 2 x spacing (up to 2.2 x spacing not cut). Returns the points and their
+/// weights (fractions of [0, 1], summing to 1).
+/// @throws GeometryError for a length above 1e6 x spacing (a diverged
+///         iterate: the step is cut).
+std::pair<std::vector<double>, std::vector<double>>
+composite_gauss_rule(std::vector<double> cuts, double length, double spacing);
 
 /// Contact elements of a zone.
 ///
@@ -116,13 +136,19 @@ bool is_crossing(const Centrelines& c, const ProximityZone& z, double parallel_a
 ///
 /// @param spacing  target distance between contact elements (length > 0),
 ///                 typically the fibre element length or less.
+/// A crossing zone one of whose fibres wraps around the other by more than
+/// `wrap_angle` (radians) over at least 2 x spacing (wrap_contact.h: long
+/// enough for 2 pieces of elements) gets the wrap's elements instead (a
+/// negative wrap_angle: never).
+///
 /// @param fallback direction used to place the particles when the two
 ///                 centroids coincide (e.g. the element's previous normal,
 ///                 pointing from j to i); zero: t_i x t_j or any normal.
 std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVectors& g,
                                          const ProximityZone& z, double spacing,
                                          double parallel_angle, double delta_factor,
-                                         const Eigen::Vector3d& fallback = Eigen::Vector3d::Zero());
+                                         const Eigen::Vector3d& fallback = Eigen::Vector3d::Zero(),
+                                         double wrap_angle = -1.0);
 
 /// Place p's particles on the borders of its two sections where they face
 /// each other along `towards_j` (from fibre i towards fibre j; fibre j's
