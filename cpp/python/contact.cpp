@@ -283,6 +283,53 @@ void declare_contact(py::module_& m)
           "rank: first node on fibre i in `owned`), and what each new zone inherits. "
           "`weaving`: a WeavingOrder whose ordered pairs take the vertical normal; "
           "`reset_normals`: set normals from the geometry, not from the old elements.")
+      .def_static(
+          "from_saved",
+          [](const py::dict& a, int num_zones, const carray<double>& q,
+             const carray<std::int64_t>& first_node, int order, const carray<double>& radius,
+             double g_r, double mu, double u_rev, std::pair<std::int64_t, std::int64_t> owned)
+          {
+            Geometry geo(q, first_node, order, radius);
+            auto col = [&](const char* name) { return a[name].cast<carray<double>>(); };
+            const auto fi = a["fibre_i"].cast<carray<int>>(), fj = a["fibre_j"].cast<carray<int>>();
+            const auto zone = a["zone"].cast<carray<int>>();
+            const auto crossing = a["crossing"].cast<carray<bool>>();
+            const auto wrap = a["wrap"].cast<carray<bool>>();
+            const auto si = col("s_i"), sj = col("s_j"), n = col("normal"), st = col("stick");
+            const auto len = col("length"), k = col("penalty");
+            const auto x1i = col("xi1_i"), x2i = col("xi2_i"), x1j = col("xi1_j"),
+                       x2j = col("xi2_j");
+            const py::ssize_t size = fi.size();
+            for (const auto* arr : {&si, &sj, &len, &k, &x1i, &x2i, &x1j, &x2j})
+              if (arr->size() != size)
+                throw std::invalid_argument("ContactSet.from_saved: arrays of different lengths");
+            if (fj.size() != size or zone.size() != size or crossing.size() != size
+                or wrap.size() != size or n.size() != 3 * size or st.size() != 3 * size)
+              throw std::invalid_argument("ContactSet.from_saved: arrays of different lengths");
+            const RegularizedCoulomb friction{mu, u_rev};
+            std::vector<ContactElementState> elements;
+            for (py::ssize_t e = 0; e < size; ++e)
+            {
+              const SavedElement saved{fi.data()[e],    fj.data()[e],
+                                       si.data()[e],    sj.data()[e],
+                                       x1i.data()[e],   x2i.data()[e],
+                                       x1j.data()[e],   x2j.data()[e],
+                                       zone.data()[e],  crossing.data()[e],
+                                       wrap.data()[e],  Eigen::Vector3d(n.data() + 3 * e),
+                                       len.data()[e],   k.data()[e],
+                                       Eigen::Vector3d(st.data() + 3 * e)};
+              ContactElementState el = restore_element(geo.lines, saved, g_r, friction);
+              // each element is evaluated by the rank owning its first node on fibre i
+              if (el.nodes_i[0] >= owned.first and el.nodes_i[0] < owned.second)
+                elements.push_back(el);
+            }
+            return ContactSet(std::move(elements), num_zones);
+          },
+          py::arg("saved"), py::arg("num_zones"), py::arg("q"), py::arg("first_node"),
+          py::arg("order"), py::arg("radius"), py::arg("g_r"), py::arg("mu"), py::arg("u_rev"),
+          py::arg("owned"),
+          "The elements of a saved state (a dict of the data() columns, all ranks' elements) "
+          "that this rank evaluates (first node on fibre i in `owned`).")
       .def("take_layout", &ContactSet::take_layout, py::arg("previous"),
            "Take over previous's assembly layout if it couples the same nodes.")
       .def("set_zone_penalties", [](ContactSet& self, const carray<double>& k)
@@ -373,6 +420,12 @@ void declare_contact(py::module_& m)
              put("normal", [](const Element& e) { return e.normal; });
              put("tangential_force", [](const Element& e) { return e.result.tangential_force; });
              put("elastic_slip", [&](const Element& e) { return self.elastic_slip(e); });
+             put("stick", [](const Element& e) { return e.stick; });
+             put("wrap", [](const Element& e) { return e.wrap; });
+             put("xi1_i", [](const Element& e) { return e.particle_i.xi1; });
+             put("xi2_i", [](const Element& e) { return e.particle_i.xi2; });
+             put("xi1_j", [](const Element& e) { return e.particle_j.xi1; });
+             put("xi2_j", [](const Element& e) { return e.particle_j.xi2; });
              put("position_i", [](const Element& e) { return e.result.position_i; });
              put("position_j", [](const Element& e) { return e.result.position_j; });
              return out;

@@ -86,3 +86,30 @@ def test_crimp_is_the_same_on_every_rank_count():
     w1, _ = woven(2, 1, comm=MPI.COMM_SELF)
     wn, _ = woven(2, 1, comm=MPI.COMM_WORLD)
     assert np.abs(fm.crimp(wn.fabric, wn.model) - fm.crimp(w1.fabric, w1.model)).max() < 1e-8
+
+
+def test_resumed_from_the_woven_state_equals_the_continuous_run(tmp_path):
+    """Weave, save (unknowns, rigid bodies, contact history and mode, yarn
+    ids), load into a fresh scene and relax: the same state as weaving and
+    relaxing in one run, to the solver's tolerance."""
+    def scene():
+        yarn = Yarn(1, R, MAT)
+        fab = Fabric(yarn, num_warp=2, num_weft=2, spacing=6.0 * yarn.width)
+        w = Weaving(fab, comm=MPI.COMM_SELF)
+        return w, textile.Solver(w.model, dict(verbose=False))
+
+    w1, s1 = scene()
+    s1.run(w1.stages())
+    w2, s2 = scene()
+    s2.run_stage(w2.stages()[0])
+    path = str(tmp_path / "woven.h5")
+    textile.save_state(w2.model, path, s2, fibre_data={"yarn": w2.fabric.fibre_yarn})
+    w3, s3 = scene()
+    attrs = textile.load_state(w3.model, path, s3)
+    assert attrs["fibre_data"]["yarn"].tolist() == w3.fabric.fibre_yarn.tolist()
+    s3.run_stage(w3.stages()[1])
+    q1, q3 = w1.model.nodal_unknowns(), w3.model.nodal_unknowns()
+    # the solver's tolerance (rtol 1e-10) on positions of order the spacing
+    assert np.abs(q1[:, 0:3] - q3[:, 0:3]).max() < 1e-10 * w1.fabric.spacing[0]
+    assert fm.crimp(w3.fabric, w3.model) == pytest.approx(fm.crimp(w1.fabric, w1.model),
+                                                          rel=1e-9)

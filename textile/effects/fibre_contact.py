@@ -190,9 +190,11 @@ class FibreContact(Effect):
         self._committed = None
         self.mode = "ordinary"
         self._order = None           # _cpp.WeavingOrder of the weaving mode
+        self._weaving = None         # its arrays (saved states)
         self._reset_normals = False  # the mode changed: normals from the geometry again
         self._fibre_yarn = self._yarn_above = None
         self._woven = None           # the order of a woven fabric, after its weaving stage
+        self._woven_arrays = None    # ... as fibre_yarn and yarn_above (saved states)
         self._weaving_done = False   # the weaving stage reached its end (depths made up)
 
     # -- stage options ---------------------------------------------------------
@@ -226,13 +228,16 @@ class FibreContact(Effect):
             self._fibre_yarn = np.asarray(fibre_yarn, dtype=np.intc)
             self._yarn_above = np.asarray(yarn_above, dtype=np.int8)
             self._weaving_done = False
+            self._weaving = dict(fibre_yarn=np.asarray(fibre_yarn, dtype=np.int64),
+                                 yarn_above=np.asarray(yarn_above, dtype=np.int8))
             self._check_order()
         elif fibre_yarn is not None or yarn_above is not None:
             raise ValueError("FibreContact: fibre_yarn and yarn_above go with mode='weaving'")
         else:
             if self.mode == "weaving":
-                self._woven = self._order  # the fabric's yarns stay bent around each other
-            self._order = None
+                # the fabric's yarns stay bent around each other
+                self._woven, self._woven_arrays = self._order, self._weaving
+            self._order = self._weaving = None
         if mode != self.mode:
             self._reset_normals = True
         self.mode = mode
@@ -509,6 +514,69 @@ class FibreContact(Effect):
         self._tangents += 1
         self.set.assemble_matrix(q, self.model.beam_global_dofs(state), A)
 
+    # -- saved states (textile.io.state_file) ----------------------------------------
+    state_name = "fibre contact"
+    #: element columns of a saved state (ContactSet.data() / from_saved)
+    SAVED = ("fibre_i", "fibre_j", "s_i", "s_j", "xi1_i", "xi2_i", "xi1_j", "xi2_j", "zone",
+             "crossing", "wrap", "normal", "length", "penalty", "stick")
+
+    def save_state(self, model) -> dict:
+        """The committed contact elements with their history (normal
+        orientation, zone penalty, stick point), keyed by fibre pair and
+        abscissas and sorted by them, so the file does not depend on the
+        partition; the contact mode and weaving order. Collective; complete
+        on rank 0."""
+        d = self._committed.data()
+        parts = model.comm.gather({k: d[k] for k in self.SAVED}, root=0)
+        if model.comm.rank != 0:
+            return {}
+        out = {k: np.concatenate([p[k] for p in parts]) for k in self.SAVED}
+        order = np.lexsort((out["s_j"], out["s_i"], out["fibre_j"], out["fibre_i"]))
+        out = {k: v[order] for k, v in out.items()}
+        out.update(num_zones=np.int64(self._committed.num_zones),
+                   mode=np.int64(self.MODES.index(self.mode)),
+                   reset_normals=np.int64(self._reset_normals))
+        if self._order is not None:
+            out.update(fibre_yarn=np.asarray(self._weaving["fibre_yarn"]),
+                       yarn_above=np.asarray(self._weaving["yarn_above"]))
+        if self._woven is not None:
+            out.update(woven_fibre_yarn=np.asarray(self._woven_arrays["fibre_yarn"]),
+                       woven_yarn_above=np.asarray(self._woven_arrays["yarn_above"]))
+        out.update(weaving_done=np.int64(self._weaving_done))
+        return out
+
+    def load_state(self, model, data: dict) -> None:
+        """Restore what save_state wrote: this rank's elements (its owned
+        range, whatever the partition that saved them), evaluated at the
+        loaded unknowns, as the committed set; mode and order."""
+        if not data:
+            raise ValueError("the state file holds no fibre contact history, the model has "
+                             "FibreContact: save the state with the contact in the scene")
+        mode = self.MODES[int(data["mode"])]
+        if mode == "weaving":
+            self.configure(mode=mode, fibre_yarn=data["fibre_yarn"],
+                           yarn_above=data["yarn_above"])
+        else:
+            self.configure(mode=mode)
+        self._reset_normals = bool(data["reset_normals"])
+        self._weaving_done = bool(data.get("weaving_done", False))
+        if "woven_fibre_yarn" in data:
+            self._woven_arrays = dict(fibre_yarn=np.asarray(data["woven_fibre_yarn"]),
+                                      yarn_above=np.asarray(data["woven_yarn_above"]))
+            self._woven = _cpp.WeavingOrder(
+                np.asarray(data["woven_fibre_yarn"], dtype=np.intc),
+                np.asarray(data["woven_yarn_above"], dtype=np.int8))
+        mesh, o = model.mesh, self.options
+        q = model.beam_positions(model.state())
+        self.set = _cpp.ContactSet.from_saved({k: data[k] for k in self.SAVED},
+                                              int(data["num_zones"]), q, mesh.first_node,
+                                              mesh.order, self.radius, self.g_r, o.friction,
+                                              self.u_rev, mesh.owned)
+        self.set.evaluate(q)  # results at the loaded state, as after a commit
+        self._committed = self.set.copy()
+        self.coverage = _cpp.CouplingPattern()
+        self._matrix_has_contact = False
+
     # -- reporting ----------------------------------------------------------------
     def _statistics(self, model) -> None:
         d = self.set.data()
@@ -524,7 +592,8 @@ class FibreContact(Effect):
         ratio = zone_pen[zone_pen > 0] / self.adaptation.target
         low, high = self.options.penalty_band
         self.stats = dict(
-            contact_zones=int(comm.allreduce(len(np.unique(d["zone"])), op=MPI.MAX)),
+            contact_zones=int(np.count_nonzero(_reduce(comm, np.bincount(
+                d["zone"], minlength=self.set.num_zones).astype(float), MPI.SUM))),
             contact_elements=int(comm.allreduce(len(d["gap"]))),
             active_contacts=int(comm.allreduce(int(active.sum()))),
             max_penetration_over_radius=float(comm.allreduce(pen, op=MPI.MAX)),

@@ -34,6 +34,31 @@ Detection detect(const Centrelines& c, const SectionVectors& g, double delta_fac
   return d;
 }
 
+ContactElementState restore_element(const Centrelines& c, const SavedElement& saved, double g_r,
+                                    const RegularizedCoulomb& friction)
+{
+  ContactElementState e;
+  e.fibre_i = saved.fibre_i;
+  e.fibre_j = saved.fibre_j;
+  e.s_i = saved.s_i;
+  e.s_j = saved.s_j;
+  e.zone = saved.zone;
+  e.crossing = saved.crossing;
+  e.wrap = saved.wrap;
+  e.length = saved.length;
+  const int nn = c.order + 1;
+  e.particle_i = {nn, element_of(c, saved.fibre_i, saved.s_i, e.nodes_i), saved.xi1_i,
+                  saved.xi2_i, c.radius[saved.fibre_i]};
+  e.particle_j = {nn, element_of(c, saved.fibre_j, saved.s_j, e.nodes_j), saved.xi1_j,
+                  saved.xi2_j, c.radius[saved.fibre_j]};
+  e.normal = saved.normal;
+  e.penalty = saved.penalty;
+  e.regularization = g_r;
+  e.friction = friction;
+  e.stick = saved.stick;
+  return e;
+}
+
 std::vector<WrapMark> wrap_marks(const ContactSet& set)
 {
   std::vector<WrapMark> out;

@@ -51,6 +51,26 @@ Detection detect(const Centrelines& c, const SectionVectors& g, double delta_fac
                  const WeavingOrder* weaving = nullptr,
                  std::span<const WrapMark> previous_wraps = {});
 
+/// A contact element rebuilt from its saved values (a saved state, see
+/// FibreContact.save_state): fibres, abscissas and section coordinates of
+/// its particles, kind, zone, normal, contact length, penalty and stick
+/// point; nodes and particles' element coordinates follow from the
+/// abscissas as in make_element.
+struct SavedElement
+{
+  int fibre_i = 0, fibre_j = 0;
+  double s_i = 0, s_j = 0;
+  double xi1_i = 0, xi2_i = 0, xi1_j = 0, xi2_j = 0;
+  int zone = 0;
+  bool crossing = false, wrap = false;
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  double length = 0, penalty = 0;
+  Eigen::Vector3d stick = Eigen::Vector3d::Zero();
+};
+
+ContactElementState restore_element(const Centrelines& c, const SavedElement& saved, double g_r,
+                                    const RegularizedCoulomb& friction);
+
 /// The contact element of point p of this pass, with its history.
 ///
 /// @param normal       normal held fixed in Newton (from j towards i)

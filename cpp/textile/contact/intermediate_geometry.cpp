@@ -43,6 +43,10 @@ double along(double a, double b, double s) { return (1.0 - s) * a + s * b; }
 /// kink_snap to a node where the centre line kinks by more than kink_angle
 /// (radians) (see snapped).
 constexpr double node_snap = 1e-2;
+
+/// Passes that re-orient a line contact's section plane (contact_points);
+/// it settles to round-off in 2-4 on curved fibres.
+constexpr int max_section_passes = 8;
 constexpr double kink_snap = 0.1;
 constexpr double kink_angle = 1e-3;
 
@@ -313,6 +317,24 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
       p.tangent = mean_tangent(unit_tangent(c, z.fibre_i, si0), unit_tangent(c, z.fibre_j, sj0));
       p.s_i = section_cut(c, z.fibre_i, point, p.tangent, si0);
       p.s_j = section_cut(c, z.fibre_j, point, p.tangent, sj0);
+      // The section plane is orthogonal to the mean of the tangents where it
+      // cuts the fibres, not where the zone's linear parametrization puts
+      // them (si0, sj0): where that map is not proportional to the arc
+      // lengths (a fibre leaving the other, a zone ending at a fibre's end,
+      // meshes of different sizes), those tangents differ, the plane and the
+      // normal tilted off both fibres, and frictionless contact dragged a
+      // fibre sliding over a curved one (stability issue item 8).
+      for (int pass = 0; pass < max_section_passes; ++pass)
+      {
+        const Eigen::Vector3d t = mean_tangent(unit_tangent(c, z.fibre_i, p.s_i),
+                                               unit_tangent(c, z.fibre_j, p.s_j));
+        const bool settled = (t - p.tangent).norm() < 1e-12;
+        p.tangent = t;
+        if (settled)
+          break;
+        p.s_i = section_cut(c, z.fibre_i, point, p.tangent, p.s_i);
+        p.s_j = section_cut(c, z.fibre_j, point, p.tangent, p.s_j);
+      }
     }
     p.tangent_i = unit_tangent(c, z.fibre_i, p.s_i);
     p.tangent_j = unit_tangent(c, z.fibre_j, p.s_j);
