@@ -1,0 +1,48 @@
+"""The weaving start of a 2x2 plain weave (METHOD.md section 5): straight,
+coplanar, interpenetrating yarns of 3 flat fibres are pushed over and under
+each other in a weaving stage, then relax in ordinary contact; the crossing
+order holds. The Output directory is checked and the Newton count guarded.
+"""
+import numpy as np
+from mpi4py import MPI
+
+import textile
+from textile.effects.fibre_contact import FibreContact
+from textile.effects.weaving_contact import weaving_mode, yarn_above
+from textile.fabric import Fabric
+from textile.yarn import Yarn
+
+from . import guard
+
+E, R = 1.0e9, 1e-3
+
+
+def test_plain_weave_start(out):
+    fab = Fabric(Yarn(3, R, textile.Material(E, 0.3), packing="layers 1"), num_warp=2,
+                 num_weft=2, spacing=14 * R, pattern="plain")
+    fibres = fab.fibres()
+    model = textile.Model(fibres, comm=MPI.COMM_SELF)
+    for f in fibres:
+        model.fix(f, 0, "all")
+        model.fix(f, -1, "position")
+    contact = FibreContact()
+    model.add_effect(contact)
+    solver = textile.Solver(model, dict(initial_step=0.2, max_step=0.2, verbose=False),
+                            output=textile.Output(out))
+    above = yarn_above(fab)
+    yarn = np.asarray(fab.fibre_yarn)
+    for stage in (textile.Stage("weave", effects={contact: weaving_mode(fab)}),
+                  textile.Stage("relax", effects={contact: dict(mode="ordinary")})):
+        solver.run_stage(stage)
+        d = contact.elements()
+        order = above[yarn[d["fibre_i"]], yarn[d["fibre_j"]]]
+        ordered = (order != 0) & (d["normal_force"] > 0)
+        assert ordered.sum() >= 36  # every fibre crossing of the 4 yarn crossings
+        # the normal points from fibre j up to fibre i exactly when i's yarn
+        # lies above: the order of the pattern holds
+        assert np.all(order[ordered] * d["normal"][ordered, 2] > 0.9)
+        assert solver.history[-1].effects["crossed_contacts"] == 0
+        assert -d["gap"].min() <= 2 * contact.adaptation.target
+    guard.clean_output(out, solver)
+    assert len(solver.history) == 10
+    guard.newton_count("contact_plain_weave_start", solver)
