@@ -21,6 +21,18 @@ E, R, L = 1.0e9, 1e-3, 0.1
 MAT = textile.Material(E, 0.3)
 
 
+def solved(model, out, contact_options=None, step=0.25):
+    """Add contact to the scene, solve it in steps of `step` with an Output
+    in `out`, check the output; returns (contact, solver)."""
+    contact = FibreContact(contact_options)
+    model.add_effect(contact)
+    solver = textile.Solver(model, dict(initial_step=step, max_step=step, verbose=False),
+                            output=textile.Output(out))
+    solver.solve()
+    guard.clean_output(out, solver)
+    return contact, solver
+
+
 def crossed_pair(out, r_B=R, delta=1e-4, **contact_options):
     A = textile.straight_fibre([0, -L / 2, 0], [0, L / 2, 0], R, MAT, num_elements=8)
     B = textile.straight_fibre([-L / 2, 0, R + r_B], [L / 2, 0, R + r_B], r_B, MAT,
@@ -30,12 +42,7 @@ def crossed_pair(out, r_B=R, delta=1e-4, **contact_options):
         model.fix(A, n, "all")
     model.fix(B, 0, ["position", "g1x"], [0, 0, -delta, 0])
     model.fix(B, -1, ["y", "z"], [0, -delta])
-    contact = FibreContact(contact_options)
-    model.add_effect(contact)
-    solver = textile.Solver(model, dict(initial_step=0.25, max_step=0.25, verbose=False),
-                            output=textile.Output(out))
-    solver.solve()
-    guard.clean_output(out, solver)
+    contact, solver = solved(model, out, contact_options)
     d = contact.elements()
     f = solver.history[-1].effects["contact_force_sum"]
     I_B = np.pi * r_B ** 4 / 4
@@ -90,12 +97,7 @@ def test_coplanar_fan(out):
     for n in range(A.num_nodes):
         model.fix(A, n, "all")
     model.clamp(B, -1)
-    contact = FibreContact()
-    model.add_effect(contact)
-    solver = textile.Solver(model, dict(initial_step=1.0, max_step=1.0, verbose=False),
-                            output=textile.Output(out))
-    solver.solve()
-    guard.clean_output(out, solver)
+    contact, solver = solved(model, out, step=1.0)
     assert np.abs(model.centreline(B)[:, 2]).max() < 1e-9 * R
     assert -contact.elements()["gap"].min() <= max(2 * contact.adaptation.target,
                                                    ROOT_PENETRATION)

@@ -18,6 +18,7 @@ from tests.contact.test_frictionless_drag import slide_over_an_arc
 from tests.contact.test_tunnelling import PUSH, cantilever_and_rod
 
 from . import guard
+from .test_contact_extremes import solved
 
 E, R = 1.0e9, 1e-3
 MAT = textile.Material(E, 0.3)
@@ -116,12 +117,7 @@ def test_fibre_folded_onto_itself(out):
     squeeze = 2 * R
     model.fix(F, 0, "all", [0, squeeze, 0, 0, 0, 0, 0, 0, 0])
     model.fix(F, -1, "all", [0, -squeeze, 0, 0, 0, 0, 0, 0, 0])
-    contact = FibreContact()
-    model.add_effect(contact)
-    solver = textile.Solver(model, dict(initial_step=0.25, max_step=0.25, verbose=False),
-                            output=textile.Output(out))
-    solver.solve()
-    guard.clean_output(out, solver)
+    contact, solver = solved(model, out)
     d = contact.elements()
     active = d["normal_force"] > 0
     assert active.sum() >= 10 and np.all(d["fibre_i"][active] == 0)  # a self-contact line

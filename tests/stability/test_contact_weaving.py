@@ -4,29 +4,16 @@ each other in a weaving stage, then relax in ordinary contact; the crossing
 order holds. The Output directory is checked and the Newton count guarded.
 """
 import numpy as np
-from mpi4py import MPI
 
 import textile
-from textile.effects.fibre_contact import FibreContact
 from textile.effects.weaving_contact import weaving_mode, yarn_above
-from textile.fabric import Fabric
-from textile.yarn import Yarn
+from tests.contact.test_weaving_mode import flat_fabric
 
 from . import guard
 
-E, R = 1.0e9, 1e-3
-
 
 def test_plain_weave_start(out):
-    fab = Fabric(Yarn(3, R, textile.Material(E, 0.3), packing="layers 1"), num_warp=2,
-                 num_weft=2, spacing=14 * R, pattern="plain")
-    fibres = fab.fibres()
-    model = textile.Model(fibres, comm=MPI.COMM_SELF)
-    for f in fibres:
-        model.fix(f, 0, "all")
-        model.fix(f, -1, "position")
-    contact = FibreContact()
-    model.add_effect(contact)
+    fab, model, contact = flat_fabric(2, "plain")
     solver = textile.Solver(model, dict(initial_step=0.2, max_step=0.2, verbose=False),
                             output=textile.Output(out))
     above = yarn_above(fab)
