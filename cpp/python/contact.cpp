@@ -318,7 +318,7 @@ void declare_contact(py::module_& m)
                                        wrap.data()[e],  Eigen::Vector3d(n.data() + 3 * e),
                                        len.data()[e],   k.data()[e],
                                        Eigen::Vector3d(st.data() + 3 * e)};
-              ContactElementState el = restore_element(geo.lines, saved, g_r, friction);
+              ContactElementState el = restore_element(geo.lines, saved, g_r, friction, cspan(q));
               // each element is evaluated by the rank owning its first node on fibre i
               if (el.nodes_i[0] >= owned.first and el.nodes_i[0] < owned.second)
                 elements.push_back(el);

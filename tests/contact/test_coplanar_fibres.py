@@ -15,8 +15,7 @@ from mpi4py import MPI
 
 import textile
 from textile.effects.fibre_contact import FibreContact
-from textile.fabric import Fabric
-from textile.yarn import Yarn
+from tests.contact.test_weaving_mode import flat_fabric
 
 E, R = 1.0e9, 1e-3
 MAT = textile.Material(E, 0.3)
@@ -79,14 +78,8 @@ def test_flat_weave_start_converges_its_first_step():
     vertical), and no element reads more than the real penetration of its
     centroids (the fibres of a yarn that fan out around a crossing are
     coplanar pairs at an angle)."""
-    fab = Fabric(Yarn(3, R, MAT, packing="layers 1"), num_warp=2, num_weft=2, spacing=14 * R)
+    fab, model, contact = flat_fabric(2, "plain")
     fibres = fab.fibres()
-    model = textile.Model(fibres, comm=MPI.COMM_SELF)
-    for f in fibres:
-        model.fix(f, 0, "all")
-        model.fix(f, -1, "position")
-    contact = FibreContact()
-    model.add_effect(contact)
     history = textile.Solver(model, dict(verbose=False, initial_step=1.0, max_step=1.0)).solve()
     assert len(history) == 1 and history[0].attempts == 1
     d = contact.elements()

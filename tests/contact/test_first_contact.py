@@ -24,10 +24,11 @@ MAT = textile.Material(E, 0.3)
 WEIGHT = 1e-3  # dead force on each node of B (N), downwards
 
 
-def resting_fibre(kind: str, floor: float):
+def resting_scene(kind: str, floor: float):
     """B rests, exactly touching, on fixed fibres: along one ("along") or
     across two parallel ones ("across", a beam on two supports); its nodes
-    carry dead forces down, and its supports hold it only horizontally."""
+    carry dead forces down, and its supports hold it only horizontally.
+    Returns (model, B, contact)."""
     if kind == "along":
         fixed = [textile.straight_fibre([-L / 2, 0, 0], [L / 2, 0, 0], R, MAT, num_elements=8)]
         B = textile.straight_fibre([-L / 4, 0, 2 * R], [L / 4, 0, 2 * R], R, MAT, num_elements=4)
@@ -45,7 +46,14 @@ def resting_fibre(kind: str, floor: float):
         model.add_force(B, n, [0, 0, -WEIGHT])
     contact = FibreContact(dict(tangent_floor=floor))
     model.add_effect(contact)
-    solver = textile.Solver(model, dict(initial_step=1.0, max_step=1.0, verbose=False))
+    return model, B, contact
+
+
+def resting_fibre(kind: str, floor: float, output=None):
+    """The scene solved in one step of the whole load."""
+    model, B, contact = resting_scene(kind, floor)
+    solver = textile.Solver(model, dict(initial_step=1.0, max_step=1.0, verbose=False),
+                            output=output)
     solver.solve()
     return model, B, contact, solver
 

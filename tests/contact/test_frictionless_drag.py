@@ -33,7 +33,9 @@ def unit_tangents(model, fibre, s):
     return t / np.linalg.norm(t, axis=1)[:, None]
 
 
-def test_sliding_over_a_curved_fibre_without_drag():
+def slide_over_an_arc(output=None):
+    """The scene, solved; returns (model, contact, solver, drags), drags
+    being the tangential contact force on B over its tension at every step."""
     a = np.linspace(0.75 * math.pi, 0.25 * math.pi, 33)
     A = textile.Fibre(np.column_stack([RHO * np.cos(a), 0 * a, RHO * np.sin(a)]), R, MAT,
                       [0, 1, 0])
@@ -62,11 +64,16 @@ def test_sliding_over_a_curved_fibre_without_drag():
 
     slide = 2.5 * R
     solver = textile.Solver(model, dict(initial_step=0.25, max_step=0.25, verbose=False),
-                            on_step=record)
+                            on_step=record, output=output)
     solver.run([textile.Stage("wrap"),
                 textile.Stage("slide", ramp={left: [slide, 0, -drop, 0, 0],
                                              right: [slide, 0, -drop]},
                               solver=dict(initial_step=0.0625, max_step=0.0625))])
+    return model, contact, solver, drags
+
+
+def test_sliding_over_a_curved_fibre_without_drag():
+    model, contact, solver, drags = slide_over_an_arc()
     assert solver.history[-1].stage == "slide" and solver.history[-1].load_factor == 1.0
     d = contact.elements()
     assert np.sum(d["normal_force"] > 0) >= 20  # B wraps A along a line

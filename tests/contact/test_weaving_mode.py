@@ -35,12 +35,13 @@ def test_yarn_above_of_a_plain_2x2_fabric():
     assert options["fibre_yarn"].tolist() == [0] * 3 + [1] * 3 + [2] * 3 + [3] * 3
 
 
-def two_yarns(warp_on_top: bool):
-    """One warp (along x) and one weft (along y) of 3 fibres side by side,
-    straight, in the plane z = 0, interpenetrating at their crossing; each
-    fibre clamped at its start and pinned at its end."""
-    fab = Fabric(Yarn(3, R, MAT, packing="layers 1"), num_warp=1, num_weft=1, spacing=14 * R,
-                 pattern=WeavePattern([[int(warp_on_top)]], allow_floats=True))
+def flat_fabric(num_yarns: int, pattern):
+    """num_yarns warps (along x) and as many wefts (along y) of 3 fibres side
+    by side, 14 radii apart, straight, in the plane z = 0, interpenetrating
+    at their crossings; each fibre clamped at its start and pinned at its
+    end. Returns (fabric, model, contact)."""
+    fab = Fabric(Yarn(3, R, MAT, packing="layers 1"), num_warp=num_yarns, num_weft=num_yarns,
+                 spacing=14 * R, pattern=pattern)
     fibres = fab.fibres()
     model = textile.Model(fibres, comm=MPI.COMM_SELF)
     for f in fibres:
@@ -49,6 +50,11 @@ def two_yarns(warp_on_top: bool):
     contact = FibreContact()
     model.add_effect(contact)
     return fab, model, contact
+
+
+def two_yarns(warp_on_top: bool):
+    """One warp and one weft crossing in the given order."""
+    return flat_fabric(1, WeavePattern([[int(warp_on_top)]], allow_floats=True))
 
 
 def crossing_heights(model, fibres):

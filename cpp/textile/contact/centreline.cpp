@@ -1,4 +1,5 @@
 #include "centreline.h"
+#include "../geometry_error.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -80,10 +81,12 @@ void Centrelines::validate() const
       throw std::invalid_argument("Centrelines: radius of fibre " + std::to_string(f)
                                   + " must be finite and > 0, got " + std::to_string(radius[f]));
   }
+  // a state's coordinates, not the caller's input: a diverged iterate is a
+  // domain error (the step is cut), not a bug
   for (std::size_t i = 0; i < x.size(); ++i)
     if (!std::isfinite(x[i]))
-      throw std::invalid_argument("Centrelines: coordinate " + std::to_string(i % 3) + " of node "
-                                  + std::to_string(i / 3) + " is NaN or infinite");
+      throw GeometryError("Centrelines: coordinate " + std::to_string(i % 3) + " of node "
+                          + std::to_string(i / 3) + " is NaN or infinite");
 }
 
 int Centrelines::num_fibres() const { return static_cast<int>(fibre_offsets.size()) - 1; }

@@ -34,7 +34,8 @@ struct Centrelines
   /// Throws std::invalid_argument naming the first inconsistency: order not
   /// 1 or 2, offsets not starting at 0 / decreasing / not ending at the node
   /// count, a fibre without a whole number (>= 1) of elements, a radius that
-  /// is not finite and positive, a coordinate that is NaN or infinite.
+  /// is not finite and positive; GeometryError for a coordinate that is NaN
+  /// or infinite (a diverged state).
   void validate() const;
 
   /// Number of fibres.

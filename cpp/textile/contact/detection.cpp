@@ -35,26 +35,17 @@ Detection detect(const Centrelines& c, const SectionVectors& g, double delta_fac
 }
 
 ContactElementState restore_element(const Centrelines& c, const SavedElement& saved, double g_r,
-                                    const RegularizedCoulomb& friction)
+                                    const RegularizedCoulomb& friction,
+                                    std::span<const double> q)
 {
-  ContactElementState e;
-  e.fibre_i = saved.fibre_i;
-  e.fibre_j = saved.fibre_j;
-  e.s_i = saved.s_i;
-  e.s_j = saved.s_j;
-  e.zone = saved.zone;
-  e.crossing = saved.crossing;
-  e.wrap = saved.wrap;
-  e.length = saved.length;
-  const int nn = c.order + 1;
-  e.particle_i = {nn, element_of(c, saved.fibre_i, saved.s_i, e.nodes_i), saved.xi1_i,
-                  saved.xi2_i, c.radius[saved.fibre_i]};
-  e.particle_j = {nn, element_of(c, saved.fibre_j, saved.s_j, e.nodes_j), saved.xi1_j,
-                  saved.xi2_j, c.radius[saved.fibre_j]};
-  e.normal = saved.normal;
-  e.penalty = saved.penalty;
-  e.regularization = g_r;
-  e.friction = friction;
+  const ContactPoint p{.fibre_i = saved.fibre_i, .fibre_j = saved.fibre_j,
+                       .s_i = saved.s_i,         .s_j = saved.s_j,
+                       .xi1_i = saved.xi1_i,     .xi2_i = saved.xi2_i,
+                       .xi1_j = saved.xi1_j,     .xi2_j = saved.xi2_j,
+                       .crossing = saved.crossing, .wrap = saved.wrap,
+                       .length = saved.length};
+  ContactElementState e = make_element(c, p, saved.zone, saved.normal, saved.penalty, g_r,
+                                       friction, Eigen::Vector3d::Zero(), q);
   e.stick = saved.stick;
   return e;
 }

@@ -69,7 +69,8 @@ struct SavedElement
 };
 
 ContactElementState restore_element(const Centrelines& c, const SavedElement& saved, double g_r,
-                                    const RegularizedCoulomb& friction);
+                                    const RegularizedCoulomb& friction,
+                                    std::span<const double> q);
 
 /// The contact element of point p of this pass, with its history.
 ///

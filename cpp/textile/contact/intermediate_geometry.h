@@ -53,9 +53,10 @@ struct ContactPoint
   bool crossing = false;               ///< a crossing's single element (else one of a line contact's)
   bool wrap = false;                   ///< an element of a wrap (wrap_contact.h)
   double length = 0;                   ///< contact length it stands for (see crossing_length)
-  Eigen::Vector3d tangent_i, tangent_j; ///< unit centre-line tangents at s_i, s_j
-  Eigen::Vector3d tangent;             ///< unit intermediate tangent
-  Eigen::Vector3d centroid_gap;        ///< x0_i(s_i) - x0_j(s_j)
+  Eigen::Vector3d tangent_i = Eigen::Vector3d::Zero(); ///< unit centre-line tangent at s_i
+  Eigen::Vector3d tangent_j = Eigen::Vector3d::Zero(); ///< and at s_j
+  Eigen::Vector3d tangent = Eigen::Vector3d::Zero();   ///< unit intermediate tangent
+  Eigen::Vector3d centroid_gap = Eigen::Vector3d::Zero(); ///< x0_i(s_i) - x0_j(s_j)
   /// The normal of an earlier pass held for this point (held_contact.h):
   /// its fibres have crossed along it. Zero: the normal is set anew.
   Eigen::Vector3d held_normal = Eigen::Vector3d::Zero();

@@ -102,9 +102,9 @@ std::vector<ProximityZone> group_into_zones(std::span<const Segment> segments,
 ///                       fibre below which two of its parts are neighbours,
 ///                       not a self contact; make it larger than
 ///                       delta_factor * 2 r, +inf to ignore self-contact.
-/// @throws std::invalid_argument: invalid centre lines (negative radius, NaN
-///         coordinates, ...), delta_factor <= 0 or not finite,
-///         self_exclusion < 0 or NaN.
+/// @throws std::invalid_argument: invalid centre lines (negative radius,
+///         ...), delta_factor <= 0 or not finite, self_exclusion < 0 or NaN;
+///         GeometryError: a NaN or infinite coordinate (a diverged state).
 std::vector<ProximityZone> find_proximity_zones(const Centrelines& c, double delta_factor,
                                                 double self_exclusion);
 
