@@ -2,12 +2,14 @@
 
 What this demo shows
 --------------------
-Two warp yarns (along x) and two weft yarns (along y) start straight, in
-one plane, interpenetrating at their four crossings. By default each yarn
-is a monofilament (one fibre, as in woven screens and filter fabrics);
-``--fibres N`` makes it a bundle of N fibres packed hexagonally (N = 7 is
-the weaving issue's target: today its contact loop does not settle and
-the run stops with DIVERGED_EFFECTS_UNSETTLED, its converged steps kept). The weave pattern (plain: warp over, weft over,
+Two warp yarns (along x) and two weft yarns (along y), each of 7 fibres
+side by side in one layer (a flat yarn, ``--packing "layers 1"``), start
+straight, in one plane, interpenetrating at their four crossings.
+``--fibres 1`` weaves monofilaments (woven screens, filter fabrics) in a
+few seconds. (Hexagonally packed bundles, ``--packing hexagonal``, do not
+weave yet: fibres stacked in a yarn roll on each other and the contact
+loop does not settle; the run stops with DIVERGED_EFFECTS_UNSETTLED, its
+converged steps kept.) The weave pattern (plain: warp over, weft over,
 alternating) says which yarn lies on top at each crossing. The solver
 *weaves* the fabric (METHOD.md section 5, Durville 2010):
 
@@ -38,8 +40,8 @@ What to look at
   from (``textile.load_state``).
 
 Run: ``python3 demos/demo_plain_weave.py [--output DIR] [--fibres N]
-[--elements N] [--spacing S]`` (a few seconds on 2 cores, pictures
-included).
+[--packing P] [--elements N] [--spacing S]`` (about half a minute on 2
+cores; a few seconds with ``--fibres 1 --spacing 6``).
 """
 import argparse
 import os
@@ -54,17 +56,19 @@ from textile.yarn import Yarn
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--output", default=os.path.join(os.path.dirname(os.path.abspath(__file__)),
                                                      "output", "demo_plain_weave"))
-parser.add_argument("--fibres", type=int, default=1, help="fibres per yarn")
+parser.add_argument("--fibres", type=int, default=7, help="fibres per yarn")
+parser.add_argument("--packing", default="layers 1",
+                    help='fibres in the yarn section: "layers 1" (flat), "hexagonal", ...')
 parser.add_argument("--elements", type=int, default=4,
                     help="fibre elements between neighbouring crossings")
-parser.add_argument("--spacing", type=float, default=6.0,
+parser.add_argument("--spacing", type=float, default=2.0,
                     help="yarn spacing, in yarn widths")
 args = parser.parse_args()
 
 # Fibres: polyester monofilaments, 0.2 mm diameter (E = 5 GPa, nu = 0.35).
 R = 0.1e-3
 mat = textile.Material(5.0e9, 0.35)
-yarn = Yarn(args.fibres, R, mat)  # hexagonal packing, fibres touching
+yarn = Yarn(args.fibres, R, mat, packing=args.packing)  # fibres touching
 fabric = Fabric(yarn, num_warp=2, num_weft=2, spacing=args.spacing * yarn.width,
                 pattern="plain", elements_per_crossing=args.elements)
 comm = MPI.COMM_WORLD

@@ -13,7 +13,7 @@ from mpi4py import MPI
 DEMOS = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(__file__))), "demos")
 
 CASES = [
-    ("demo_plain_weave.py", [], ["fibres.pvd", "contacts.pvd", "results.json", "sample.png",
+    ("demo_plain_weave.py", ["--fibres", "1", "--spacing", "6"], ["fibres.pvd", "contacts.pvd", "results.json", "sample.png",
                                  "cut_warp.png", "cut_weft.png", "woven.h5"]),
     ("demo_fibre_rollup.py", ["--elements", "16"], ["fibres.pvd", "results.json", "shape.png"]),
     ("demo_buckled_column.py", ["--elements", "8"], ["fibres.pvd", "results.json",
