@@ -21,6 +21,7 @@ import dataclasses
 import math
 import time
 import warnings
+import weakref
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -252,6 +253,14 @@ class Attempt:
         return f"{text}: {self.message}" if self.message else text
 
 
+def _forget_options(prefix: str) -> None:
+    """Remove every option of the PETSc database that starts with prefix."""
+    opts = PETSc.Options()
+    for name in list(opts.getAll()):
+        if name.startswith(prefix):
+            opts.delValue(name)
+
+
 class Solver:
     """Drive a :class:`~textile.Model` through load steps with one SNES.
 
@@ -297,6 +306,9 @@ class Solver:
         self._scales = np.array([groups.scale[n] for n in groups.names])
         Solver._count += 1
         self.prefix = f"textile{Solver._count}_"
+        # PETSc's options database is global and bounded (error 55 once
+        # full): a solver's prefixed options go with it
+        weakref.finalize(self, _forget_options, self.prefix)
         self._counts = dict(newton_solves=0, newton_iterations=0, failed_attempts=0,
                             accepted_steps=0, residual_evaluations=0, jacobian_evaluations=0,
                             linear_solve_retries=0)
