@@ -9,7 +9,7 @@ included), the woven fabric's figures, and writes them to
 ``output/weave_sample_<pattern>.h5``.
 
     .venv/bin/python benchmarks/weave_sample.py [--patterns plain "twill 2/2"]
-        [--fibres 28] [--yarns 6] [--elements 4] [--spacing 2]
+        [--fibres 28] [--yarns 6] [--elements 4] [--spacing 2] [--packing "layers 1"]
     mpirun -n 2 .venv/bin/python benchmarks/weave_sample.py
 """
 from __future__ import annotations
@@ -33,8 +33,9 @@ R = 0.1e-3
 MAT = textile.Material(5.0e9, 0.35)
 
 
-def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, comm) -> dict:
-    yarn = Yarn(fibres, R, MAT)
+def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, packing: str,
+          comm) -> dict:
+    yarn = Yarn(fibres, R, MAT, packing=packing)
     fabric = Fabric(yarn, num_warp=yarns, num_weft=yarns, spacing=spacing * yarn.width,
                     pattern=pattern, elements_per_crossing=elements)
     weaving = Weaving(fabric, comm=comm)
@@ -60,7 +61,8 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
     name = pattern.replace(" ", "_").replace("/", "-")
     textile.save_state(model, os.path.join(OUT, f"weave_sample_{name}.h5"), solver,
                        fibre_data={"yarn": fabric.fibre_yarn})
-    return dict(pattern=pattern, fibres_per_yarn=fibres, spacing_in_widths=spacing, size=size, wall_seconds=wall, counters=solver.counters,
+    return dict(pattern=pattern, fibres_per_yarn=fibres, packing=packing, spacing_in_widths=spacing,
+                size=size, wall_seconds=wall, counters=solver.counters,
                 steps=steps, summary=summary, error=error)
 
 
@@ -72,6 +74,8 @@ def main():
     parser.add_argument("--elements", type=int, default=4,
                         help="fibre elements between neighbouring crossings")
     parser.add_argument("--spacing", type=float, default=2.0, help="yarn spacing in yarn widths")
+    parser.add_argument("--packing", default="layers 1",
+                        help="fibre packing in the yarn section: 'layers n' or 'hexagonal'")
     args = parser.parse_args()
     comm = MPI.COMM_WORLD
     os.makedirs(OUT, exist_ok=True)
@@ -79,7 +83,8 @@ def main():
         print(runtime.describe())
     runs = []
     for pattern in args.patterns:
-        r = weave(pattern, args.fibres, args.yarns, args.elements, args.spacing, comm)
+        r = weave(pattern, args.fibres, args.yarns, args.elements, args.spacing, args.packing,
+                  comm)
         runs.append(r)
         if comm.rank == 0:
             s = r["size"]
