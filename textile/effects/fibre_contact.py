@@ -577,6 +577,12 @@ class FibreContact(Effect):
         self.coverage = _cpp.CouplingPattern()
         self._matrix_has_contact = False
 
+    def load_fibres(self, model, data: dict) -> None:
+        """A new scene starts from saved fibres (textile.load_fibres): take
+        their contact history if the file has one, else start afresh."""
+        if data:
+            self.load_state(model, data)
+
     # -- reporting ----------------------------------------------------------------
     def _statistics(self, model) -> None:
         d = self.set.data()

@@ -24,6 +24,10 @@ from), independent of how many MPI ranks wrote or read it:
     and read by the effect (``save_state`` / ``load_state``).
 
 Written by rank 0 from gathered data; read on every rank.
+
+:func:`load_state` resumes the *same* scene; :func:`load_fibres` starts a
+*new* scene (other loads, rigid bodies, a matrix) from the saved fibres:
+their unknowns and, if both scenes have fibre contact, the contact history.
 """
 from __future__ import annotations
 
@@ -77,6 +81,62 @@ def save_state(model, path: str, solver=None, fibre_data=None) -> None:
                 h[key] = value
 
 
+def _check_fibres(model, f, path: str) -> None:
+    """The saved fibres are the model's: same count, nodes and reference."""
+    attrs = f.attrs
+    if attrs.get("format") != FORMAT:
+        raise ValueError(f"{path}: not a textile state file")
+    if attrs["num_nodes"] != model.mesh.num_nodes_global or \
+            attrs["num_fibres"] != len(model.mesh.fibres):
+        raise ValueError(f"{path}: saved for {attrs['num_fibres']} fibres and "
+                         f"{attrs['num_nodes']} nodes; this model has "
+                         f"{len(model.mesh.fibres)} and {model.mesh.num_nodes_global}")
+    if not np.allclose(f["fibres/reference"][...], model.mesh.X_global, rtol=0,
+                       atol=1e-12 * max(1.0, np.abs(model.mesh.X_global).max())):
+        raise ValueError(f"{path}: the fibres' reference geometry differs from this model's")
+
+
+def _set_beam_unknowns(model, u: np.ndarray) -> None:
+    """Put the saved global fibre unknowns (nodes, 9) into the model's x."""
+    arrays = [a.copy() for a in model.layout.get_local(model.x)]
+    arrays[model.layout.index("beam")][:] = u[model.mesh.local_to_global].ravel()
+    model.layout.scatter(model.x, arrays)
+
+
+def load_fibres(model, path: str) -> dict:
+    """Start a new scene from the fibres of a saved state (collective).
+
+    The model must hold the same fibres (count, nodes, reference geometry:
+    build them as the saving run did, e.g. from the same
+    :class:`~textile.fabric.Fabric`); its loads, rigid bodies and other
+    effects may differ. Sets the fibre unknowns (the fibres keep the saved
+    deformation and stresses) and, if the model has fibre contact, the saved
+    contact history. Rigid bodies created for the new scene grab what they
+    hold in this loaded configuration (see
+    :mod:`textile.effects.rigid_bodies`). Returns the file's attributes,
+    with the per-fibre labels under ``"fibre_data"``.
+    """
+    import h5py
+
+    model.setup()
+    with h5py.File(path, "r") as f:
+        _check_fibres(model, f, path)
+        attrs = dict(f.attrs)
+        u = f["fibres/unknowns"][...]
+        effects = {name: {k: v[...] for k, v in grp.items()}
+                   for name, grp in f["effects"].items()}
+        if "data" in f["fibres"]:
+            attrs["fibre_data"] = {k: v[...] for k, v in f["fibres/data"].items()}
+    _set_beam_unknowns(model, u)
+    model.x.ghostUpdate()
+    for e in model.effects:
+        name = getattr(e, "state_name", None)
+        if hasattr(e, "load_fibres"):
+            e.load_fibres(model, effects.get(name, {}) if name else {})
+    model.x.ghostUpdate()
+    return attrs
+
+
 def load_state(model, path: str, solver=None) -> dict:
     """Set the model (built as when the state was saved) to the saved state:
     unknowns, stage values, effects' history. Collective. Returns the file's
@@ -85,17 +145,8 @@ def load_state(model, path: str, solver=None) -> dict:
 
     model.setup()
     with h5py.File(path, "r") as f:
+        _check_fibres(model, f, path)
         attrs = dict(f.attrs)
-        if attrs.get("format") != FORMAT:
-            raise ValueError(f"{path}: not a textile state file")
-        if attrs["num_nodes"] != model.mesh.num_nodes_global or \
-                attrs["num_fibres"] != len(model.mesh.fibres):
-            raise ValueError(f"{path}: saved for {attrs['num_fibres']} fibres and "
-                             f"{attrs['num_nodes']} nodes; this model has "
-                             f"{len(model.mesh.fibres)} and {model.mesh.num_nodes_global}")
-        if not np.allclose(f["fibres/reference"][...], model.mesh.X_global, rtol=0,
-                           atol=1e-12 * max(1.0, np.abs(model.mesh.X_global).max())):
-            raise ValueError(f"{path}: the fibres' reference geometry differs from this model's")
         u = f["fibres/unknowns"][...]
         schedules = model.schedules()
         saved = sorted(f["schedules"].keys())
@@ -117,10 +168,7 @@ def load_state(model, path: str, solver=None) -> dict:
     model._constraint_cache = None
     model._setup_constraints()
     model._setup_residual_groups()
-    arrays = [a.copy() for a in model.layout.get_local(model.x)]
-    mesh = model.mesh
-    arrays[model.layout.index("beam")][:] = u[mesh.local_to_global].ravel()
-    model.layout.scatter(model.x, arrays)
+    _set_beam_unknowns(model, u)
     for e in model.effects:
         if hasattr(e, "load_state"):
             e.load_state(model, effects.get(e.state_name, {}))
