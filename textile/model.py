@@ -7,6 +7,7 @@ PETSc SNES by summing the effects the scene has.
 from __future__ import annotations
 
 import numbers
+import time
 
 import numpy as np
 from mpi4py import MPI
@@ -250,6 +251,8 @@ class Model:
         self._floor_tangent = None
         self.force_reference = None
         self.domain_error: Exception | None = None
+        #: (effect class, "residual" | "jacobian") -> seconds of assembly on this rank
+        self.effect_seconds: dict[tuple[str, str], float] = {}
         self._ready = True
 
     def _setup_constraints(self) -> None:
@@ -399,7 +402,9 @@ class Model:
         error = None
         try:
             for e in self.effects:
+                t0 = time.perf_counter()
                 e.residual(st, local)
+                self._time(e, "residual", t0)
         except _cpp.GeometryError as exc:
             error = exc
         if self._domain_error(error, b):
@@ -409,7 +414,10 @@ class Model:
         b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
         added = []
         try:
-            added = [e.residual_global(st, b) for e in self.effects]
+            for e in self.effects:
+                t0 = time.perf_counter()
+                added.append(e.residual_global(st, b))
+                self._time(e, "residual", t0)
         except _cpp.GeometryError as exc:
             error = exc
         if self._domain_error(error, b):
@@ -431,6 +439,11 @@ class Model:
         # the force scale of each group: applied loads and support reactions
         self.force_reference = np.hypot(applied, self.residual_groups.reaction_norms(
             self._reaction_values))
+
+    def _time(self, effect: Effect, kind: str, t0: float) -> None:
+        """Add the seconds since t0 to the effect's assembly time."""
+        key = (type(effect).__name__, kind)
+        self.effect_seconds[key] = self.effect_seconds.get(key, 0.0) + time.perf_counter() - t0
 
     def _domain_error(self, error, b: PETSc.Vec) -> bool:
         """Collective: did any rank meet a domain error? Then record it and
@@ -502,7 +515,9 @@ class Model:
         error = None
         try:
             for e in self.effects:
+                t0 = time.perf_counter()
                 e.jacobian(st, P)
+                self._time(e, "jacobian", t0)
         except _cpp.GeometryError as exc:
             error = exc
         if self.comm.allreduce(error is not None, op=MPI.LOR):
