@@ -10,6 +10,7 @@ included), the woven fabric's figures, and writes them to
 
     .venv/bin/python benchmarks/weave_sample.py [--patterns plain "twill 2/2"]
         [--fibres 28] [--yarns 6] [--elements 4] [--spacing 2] [--packing "layers 1"]
+        [--solver '{"low_rank_tolerance": 1e-8}']
     mpirun -n 2 .venv/bin/python benchmarks/weave_sample.py
 """
 from __future__ import annotations
@@ -34,7 +35,7 @@ MAT = textile.Material(5.0e9, 0.35)
 
 
 def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, packing: str,
-          comm) -> dict:
+          solver_options: dict, comm) -> dict:
     yarn = Yarn(fibres, R, MAT, packing=packing)
     fabric = Fabric(yarn, num_warp=yarns, num_weft=yarns, spacing=spacing * yarn.width,
                     pattern=pattern, elements_per_crossing=elements)
@@ -42,7 +43,7 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
     model = weaving.model
     t0 = time.perf_counter()
     error = ""
-    solver = textile.Solver(model, dict(verbose=comm.rank == 0))
+    solver = textile.Solver(model, dict(solver_options, verbose=comm.rank == 0))
     try:
         solver.run(weaving.stages())
     except textile.ConvergenceError as e:
@@ -62,7 +63,7 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
     textile.save_state(model, os.path.join(OUT, f"weave_sample_{name}.h5"), solver,
                        fibre_data={"yarn": fabric.fibre_yarn})
     return dict(pattern=pattern, fibres_per_yarn=fibres, packing=packing, spacing_in_widths=spacing,
-                size=size, wall_seconds=wall, counters=solver.counters,
+                solver_options=solver_options, size=size, wall_seconds=wall, counters=solver.counters,
                 steps=steps, summary=summary, error=error)
 
 
@@ -76,6 +77,8 @@ def main():
     parser.add_argument("--spacing", type=float, default=2.0, help="yarn spacing in yarn widths")
     parser.add_argument("--packing", default="layers 1",
                         help="fibre packing in the yarn section: 'layers n' or 'hexagonal'")
+    parser.add_argument("--solver", type=json.loads, default={},
+                        help='solver options as JSON, e.g. \'{"low_rank_tolerance": 1e-8}\'')
     args = parser.parse_args()
     comm = MPI.COMM_WORLD
     os.makedirs(OUT, exist_ok=True)
@@ -84,7 +87,7 @@ def main():
     runs = []
     for pattern in args.patterns:
         r = weave(pattern, args.fibres, args.yarns, args.elements, args.spacing, args.packing,
-                  comm)
+                  args.solver, comm)
         runs.append(r)
         if comm.rank == 0:
             s = r["size"]
