@@ -103,6 +103,19 @@ def _set_beam_unknowns(model, u: np.ndarray) -> None:
     model.layout.scatter(model.x, arrays)
 
 
+def saved_configuration(path: str) -> np.ndarray:
+    """(nodes, 9) current [x0, g1, g2] of every fibre node of a saved state
+    (reference plus unknowns, global node numbering), read without a
+    model: what a new scene builds around (a matrix box, junctions) before
+    its model exists. Read on the calling rank only."""
+    import h5py
+
+    with h5py.File(path, "r") as f:
+        if f.attrs.get("format") != FORMAT:
+            raise ValueError(f"{path}: not a textile state file")
+        return f["fibres/reference"][...] + f["fibres/unknowns"][...]
+
+
 def load_fibres(model, path: str) -> dict:
     """Start a new scene from the fibres of a saved state (collective).
 
