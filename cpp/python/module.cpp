@@ -263,4 +263,5 @@ PYBIND11_MODULE(_cpp, m)
 
   declare_contact(m);
   declare_rigid(m);
+  declare_junction(m);
 }
