@@ -77,10 +77,10 @@ def test_tangent_matches_finite_differences(order):
         e[j] = h
         fd[:, k] = (residual(split(flat + e)) - residual(split(flat - e))) / (2 * h)
     Kfree = K[np.ix_(dofs[free], dofs[free])]
-    # quadratic energy: differences exact up to round-off (measured 2e-10
-    # relative), hence 1e-8
+    # quadratic energy: differences exact up to round-off (measured 6e-11
+    # and 8e-11 relative for orders 1 and 2), hence 5e-10
     err = np.abs(Kfree - fd[free]).max()
-    assert err <= 1e-8 * np.abs(Kfree).max(), err
+    assert err <= 5e-10 * np.abs(Kfree).max(), err
     # constrained dofs (fibre clamp, block clamp) stay out of the matrix
     fixed = np.setdiff1d(np.arange(n), dofs[free])
     assert np.abs(K[fixed]).max() == 0.0 and np.abs(K[:, fixed]).max() == 0.0
@@ -208,7 +208,11 @@ def mpi_scene(comm):
     u = model.state().u[block.name].reshape(-1, 3)[:n]
     X, u = np.vstack(comm.allgather(X)), np.vstack(comm.allgather(u))
     order = np.lexsort(np.round(X, 9).T[::-1])
-    return {"centrelines": np.vstack([model.centreline(f) - f.points for f in fibres]),
+    # junction forces by junction position
+    P = np.vstack(comm.allgather(junctions.points()))
+    F = np.vstack(comm.allgather(junctions.forces()))
+    jorder = np.lexsort(np.round(P, 9).T[::-1])
+    return {"junction_X": P[jorder], "junction_forces": F[jorder],"centrelines": np.vstack([model.centreline(f) - f.points for f in fibres]),
             "matrix_X": X[order], "matrix_u": u[order],
             "junction_force": junctions.total_force(), "reaction": block.reaction(),
             "stats": junctions.statistics()}
@@ -220,14 +224,18 @@ def test_same_answer_on_one_and_two_ranks():
     ref = mpi_scene(MPI.COMM_SELF)
     assert res["stats"]["junctions"] == ref["stats"]["junctions"]
     assert np.allclose(res["matrix_X"], ref["matrix_X"], atol=1e-12)
-    for key in ("centrelines", "matrix_u", "junction_force", "reaction"):
+    assert np.allclose(res["junction_X"], ref["junction_X"], atol=1e-12)
+    # measured differences 1e-14 to 4e-13 relative (round-off; the
+    # required 1e-8 is far looser), hence 2e-12
+    for key in ("centrelines", "matrix_u", "junction_forces", "junction_force", "reaction"):
         a, b = res[key], ref[key]
-        assert np.linalg.norm(a - b) <= 1e-8 * np.linalg.norm(b), key
+        assert np.linalg.norm(a - b) <= 2e-12 * np.linalg.norm(b), key
     # the fibres are held only by the junctions (their section fixes carry
     # no net force), so the junction forces add up to the applied loads
     applied = np.array([0.2 - 0.1, 0.05 + 0.1, -0.1 + 0.2])
     assert np.linalg.norm(res["junction_force"] - applied) <= 1e-9 * np.linalg.norm(applied)
     if MPI.COMM_WORLD.size > 1:
         # on 2 ranks some junctions couple fibre nodes of the other rank
-        assert res["stats"]["junction_off_rank_fraction"] > 0
-        print("junction_off_rank_fraction", res["stats"]["junction_off_rank_fraction"])
+        # (measured 0.3125 or 0.6875, depending on which half of the box
+        # the partitioner gives rank 0): the ghost path is exercised
+        assert 0 < res["stats"]["junction_off_rank_fraction"] < 1
