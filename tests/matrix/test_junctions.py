@@ -239,3 +239,42 @@ def test_same_answer_on_one_and_two_ranks():
         # (measured 0.3125 or 0.6875, depending on which half of the box
         # the partitioner gives rank 0): the ghost path is exercised
         assert 0 < res["stats"]["junction_off_rank_fraction"] < 1
+
+
+# -- made in the current configuration ------------------------------------------
+def test_junctions_made_in_a_given_configuration():
+    """Junctions made at a deformed fibre state (a stretched, crimped fibre,
+    as after weaving) have zero gap and energy in that state, and their
+    weights add up to the deformed length inside the matrix."""
+    comm = MPI.COMM_SELF
+    block = ElasticBlock(box_mesh(comm, [0, 0, 0], [2, 1, 1], [4, 2, 2]), 1.0e3, 0.3)
+    fib = textile.straight_fibre([0.2, 0.5, 0.5], [1.8, 0.5, 0.5], RADIUS,
+                                 textile.Material(E_F, 0.3), num_elements=8)
+    model = textile.Model(fib, comm=comm)
+    X = model.mesh.X_global
+    d = np.zeros_like(X)
+    d[:, 0] = 0.05 * (X[:, 0] - 1.0)                        # 5% stretch about x = 1
+    d[:, 2] = 0.1 * np.sin(np.pi * (X[:, 0] - 0.2) / 1.6)   # crimp
+    model.add_effect(block)
+    junctions = FibreMatrixJunctions(model, block, positions=X + d)
+    model.add_effect(junctions)
+    model.setup()
+    arrays = [a.copy() for a in model.layout.get_local(model.x)]
+    arrays[model.layout.index("beam")][:] = d[model.mesh.local_to_global].ravel()
+    model.layout.scatter(model.x, arrays)
+    assert np.abs(junctions.gaps()).max() < 1e-14
+    st = model.state()
+    b = {n: np.zeros(len(a)) for n, a in st.u.items()}
+    junctions.residual(st, b)
+    assert junctions.energy < 1e-28
+    # the Gauss rule of each quadratic element integrates |dx/dxi| of the
+    # crimped curve: 2 points per element, measured 1.4e-7 from the length
+    # of a fine polyline on it, hence 1e-6
+    s = np.linspace(0.2, 1.8, 20001)
+    curve = np.column_stack([s + 0.05 * (s - 1.0), np.zeros_like(s),
+                             0.1 * np.sin(np.pi * (s - 0.2) / 1.6)])
+    length = np.linalg.norm(np.diff(curve, axis=0), axis=1).sum()
+    assert abs(junctions.total_weight / length - 1) < 1e-6, junctions.total_weight / length
+    # every particle lies on the deformed centre line, inside the matrix
+    assert junctions.statistics()["junctions_outside"] == 0
+    assert np.abs(junctions.points()[:, 2] - 0.5).max() > 0.05
