@@ -240,9 +240,11 @@ class FibreMatrixJunctions(Effect):
     def statistics(self) -> dict:
         """Constants of the junction set (the same on every rank, not collective):
         "junctions" (made), "junctions_outside" (particles outside the matrix,
-        no junction), "junction_off_rank_fraction" (share of junction-fibre
-        node couplings whose node the assembling rank does not own)."""
+        no junction), "junction_length" (fibre length the junctions stand
+        for, sum of w), "junction_off_rank_fraction" (share of (junction,
+        fibre node) couplings whose node the assembling rank does not own)."""
         return {"junctions": self.num_junctions, "junctions_outside": self.num_outside,
+                "junction_length": self.total_weight,
                 "junction_off_rank_fraction": self.off_rank_fraction}
 
     # -- results ------------------------------------------------------------
