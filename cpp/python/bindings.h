@@ -17,3 +17,4 @@ std::span<const T> cspan(const carray<T>& a)
 
 void declare_contact(pybind11::module_& m);
 void declare_rigid(pybind11::module_& m);
+void declare_junction(pybind11::module_& m);

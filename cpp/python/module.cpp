@@ -7,8 +7,6 @@
 #include "../textile/assembly/preallocation.h"
 #include "../textile/beam/beam_element.h"
 #include "../textile/geometry_error.h"
-#include "../textile/junction/point_tie.h"
-#include "../textile/junction/point_tie_set.h"
 #include "../textile/loads/end_moment.h"
 
 #include "bindings.h"
@@ -187,49 +185,6 @@ PYBIND11_MODULE(_cpp, m)
       "Generalized forces on [g1, g2] applying moment M, and their derivative.");
 
   m.def(
-      "point_tie",
-      [](double k, const carray<double>& phi, const carray<double>& ua,
-         const carray<double>& ucell, const carray<double>& gap0)
-      {
-        const std::size_t n = 3 + 3 * phi.size();
-        carray<double> r(n), K({n, n});
-        std::fill_n(r.mutable_data(), n, 0.0);
-        std::fill_n(K.mutable_data(), n * n, 0.0);
-        junction::point_tie(k, cspan(phi), cspan(ua), cspan(ucell), cspan(gap0),
-                            std::span<double>(r.mutable_data(), n),
-                            std::span<double>(K.mutable_data(), n * n));
-        return py::make_tuple(r, K);
-      },
-      py::arg("k"), py::arg("phi"), py::arg("u_a"), py::arg("u_cell"), py::arg("gap0"));
-
-  py::class_<junction::PointTieSet>(m, "PointTieSet")
-      .def(py::init(
-               [](double k, const carray<std::int32_t>& nodes, const carray<std::int32_t>& cells,
-                  const carray<double>& phi)
-               { return junction::PointTieSet(k, to_vector(nodes), to_vector(cells), to_vector(phi)); }),
-           py::arg("k"), py::arg("nodes"), py::arg("cell_dofs"), py::arg("phi"))
-      .def_property_readonly("size", &junction::PointTieSet::size)
-      .def(
-          "assemble_vector",
-          [](const junction::PointTieSet& self, const carray<double>& uf, const carray<double>& us,
-             py::array_t<double>& bf, py::array_t<double>& bs)
-          { self.assemble_vector(cspan(uf), cspan(us), wspan(bf, "b_fibre"), wspan(bs, "b_solid")); },
-          py::arg("u_fibre"), py::arg("u_solid"), py::arg("b_fibre"), py::arg("b_solid"))
-      .def(
-          "assemble_matrix",
-          [](const junction::PointTieSet& self, Mat A, const carray<std::int32_t>& df,
-             const carray<std::int32_t>& ds) { self.assemble_matrix(A, cspan(df), cspan(ds)); },
-          py::arg("A"), py::arg("dofs_fibre"), py::arg("dofs_solid"))
-      .def(
-          "total_force",
-          [](const junction::PointTieSet& self, const carray<double>& uf, const carray<double>& us)
-          {
-            const auto f = self.total_force(cspan(uf), cspan(us));
-            return carray<double>(3, f.data());
-          },
-          py::arg("u_fibre"), py::arg("u_solid"));
-
-  m.def(
       "add_block",
       [](Mat A, const carray<std::int32_t>& rows, const carray<std::int32_t>& cols,
          const carray<double>& values) { assembly::add_block(A, cspan(rows), cspan(cols), cspan(values)); },
@@ -263,4 +218,5 @@ PYBIND11_MODULE(_cpp, m)
 
   declare_contact(m);
   declare_rigid(m);
+  declare_junction(m);
 }

@@ -9,11 +9,12 @@ from .beam_elasticity import BeamElasticity
 from .nodal_loads import EndMoments, NodalForces
 
 __all__ = ["Effect", "State", "BeamElasticity", "NodalForces", "EndMoments", "ElasticBlock",
-           "FibreMatrixTie"]
+           "FibreMatrixTie", "FibreMatrixJunctions"]
 
 # Effects that need dolfinx's form machinery (UFL, JIT) are imported on
 # first use: a scene without a matrix does not pay for them.
-_LAZY = {"ElasticBlock": "elastic_block", "FibreMatrixTie": "fibre_matrix_tie"}
+_LAZY = {"ElasticBlock": "elastic_block", "FibreMatrixTie": "fibre_matrix_tie",
+         "FibreMatrixJunctions": "fibre_matrix_junction"}
 
 
 def __getattr__(name):

@@ -1,0 +1,276 @@
+"""Fibre-matrix junction elements: fibre material particles tied to the matrix.
+
+Each junction pairs a *material particle* of a fibre element (a point of the
+centre line at the element coordinate xi) with the material point of an
+:class:`~textile.effects.elastic_block.ElasticBlock` at the same place
+(METHOD.md section 6), and stores the penalty energy
+
+    E_j = 1/2 k w_j |x_f - x_m|^2,
+    x_f = sum_a N_a(xi) (X_a + u_a)   (fibre centre-line point),
+    x_m = X_m + sum_b phi_b u_b       (matrix point, phi the matrix cell's basis),
+
+so the coupling is a penalty *per unit fibre length*:
+
+* k is the stiffness per unit fibre length (N/m^2). Default: the block's
+  Young's modulus, k = STIFFNESS_FACTOR * E_m with STIFFNESS_FACTOR = 1.
+* w_j is the fibre length the particle stands for: the particles of an
+  element are the points of a Gauss-Legendre rule on [-1, 1] (by default the
+  beam element's own axial Gauss points), and w_j = (Gauss weight) x
+  |dx_f/dxi| in the configuration where the junctions are made. The
+  junctions thus integrate 1/2 k |x_f - x_m|^2 along the fibre: their total
+  stiffness does not depend on how many particles an element has nor on the
+  element or matrix mesh sizes.
+
+Junctions are made in the fibres' configuration at creation (``positions``,
+default the reference geometry), so a woven, pre-stressed fibre state can
+be embedded in an unstressed matrix: X_m is the particle's position then,
+searched in the matrix's reference mesh (bounding-box tree of dolfinx's
+geometry module, then :meth:`ElasticBlock.point_basis`). Particles outside
+the matrix mesh get no junction (counted in :meth:`statistics`).
+
+The energy is quadratic: residual k w gap (distributed by N_a and -phi_b),
+constant symmetric tangent. All junctions are assembled together in C++
+(``_cpp.JunctionSet``, ``cpp/textile/junction/``).
+
+Parallel: a junction is assembled by the one rank owning the matrix cell
+containing its point (point_basis's rule: the lowest rank for a point on a
+partition interface). The fibre element nodes it couples become ghosts of
+the fibre mesh there (:meth:`FibreMesh.add_ghosts`) when the junctions are
+created, which must therefore happen before the model is set up. The share
+of (junction, fibre node) couplings whose node another rank owns is
+``statistics()["junction_off_rank_fraction"]``.
+"""
+from __future__ import annotations
+
+import numbers
+
+import numpy as np
+from dolfinx import geometry
+from mpi4py import MPI
+
+from .. import _cpp
+from .base import Effect, State
+from .elastic_block import ElasticBlock
+
+#: default stiffness per unit fibre length = STIFFNESS_FACTOR * E_m (N/m^2)
+STIFFNESS_FACTOR = 1.0
+
+
+def _shape(order: int, xi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Lagrange shape functions (n, order + 1) and their xi-derivatives at
+    xi, in the node order of cpp/textile/beam/shape_functions.h."""
+    xi = np.asarray(xi, dtype=float)
+    if order == 1:
+        N = np.stack([0.5 * (1 - xi), 0.5 * (1 + xi)], axis=1)
+        dN = np.stack([np.full_like(xi, -0.5), np.full_like(xi, 0.5)], axis=1)
+    else:
+        N = np.stack([0.5 * xi * (xi - 1), 1 - xi * xi, 0.5 * xi * (xi + 1)], axis=1)
+        dN = np.stack([xi - 0.5, -2 * xi, xi + 0.5], axis=1)
+    return N, dN
+
+
+def _inside(block: ElasticBlock, points: np.ndarray) -> np.ndarray:
+    """Collective: True for points inside the block's (reference) mesh on some rank."""
+    msh = block.mesh
+    tdim = msh.topology.dim
+    n_owned = msh.topology.index_map(tdim).size_local
+    tree = geometry.BoundingBoxTree(msh, tdim, np.arange(n_owned, dtype=np.int32))
+    hits = geometry.compute_colliding_cells(msh, geometry.compute_collisions(tree, points),
+                                            points)
+    found = (np.diff(hits.offsets) > 0).astype(np.int32)
+    msh.comm.Allreduce(MPI.IN_PLACE, found, op=MPI.MAX)
+    return found.astype(bool)
+
+
+class FibreMatrixJunctions(Effect):
+    """Ties fibre material particles to the matrix points where they sit.
+
+    Parameters
+    ----------
+    model:
+        The :class:`~textile.Model` whose fibres are embedded (collective
+        call: every rank of the model's communicator creates the junctions,
+        before the model is set up).
+    block:
+        The :class:`ElasticBlock` (the matrix); add it to the model before
+        the junctions.
+    fibres:
+        Optional subset of fibres (objects or indices); default all.
+    particles_per_element:
+        Particles per fibre element, at the points of the Gauss-Legendre rule
+        of that order; default the beam element's axial Gauss points
+        (``model.element.axial_points``).
+    stiffness:
+        Penalty stiffness per unit fibre length k (N/m^2); default
+        ``STIFFNESS_FACTOR * block.young`` (factor 1).
+    positions:
+        Optional (global nodes, 3 or more) current nodal unknowns of the
+        fibres (the first 3 columns are positions, e.g.
+        ``other_model.nodal_unknowns()``) in which the junctions are made;
+        default the fibres' reference geometry.
+    """
+
+    symmetric_tangent = True  # a quadratic penalty potential
+
+    def __init__(self, model, block: ElasticBlock, fibres=None, particles_per_element=None,
+                 stiffness=None, positions=None):
+        if not isinstance(block, ElasticBlock):
+            raise TypeError(f"block must be an ElasticBlock, got {type(block).__name__}")
+        if stiffness is None:
+            stiffness = STIFFNESS_FACTOR * block.young
+        if isinstance(stiffness, bool) or not isinstance(stiffness, numbers.Real) \
+                or not np.isfinite(stiffness) or stiffness <= 0:
+            raise ValueError(f"FibreMatrixJunctions: stiffness must be positive and finite, "
+                             f"got {stiffness!r}")
+        mesh = model.mesh
+        if particles_per_element is None:
+            particles_per_element = model.element.axial_points
+        if isinstance(particles_per_element, bool) \
+                or not isinstance(particles_per_element, numbers.Integral) \
+                or not 1 <= particles_per_element <= 20:
+            raise ValueError(f"FibreMatrixJunctions: particles_per_element must be an integer "
+                             f"in 1..20, got {particles_per_element!r}")
+        if fibres is None:
+            selected = np.arange(len(mesh.fibres))
+        else:
+            selected = np.unique([mesh.fibre_index(f) for f in fibres])
+        if positions is None:
+            x = mesh.X_global[:, 0:3]
+        else:
+            x = np.asarray(positions, dtype=float)
+            if x.ndim != 2 or x.shape[0] != mesh.num_nodes_global or x.shape[1] < 3 \
+                    or not np.all(np.isfinite(x[:, :3])):
+                raise ValueError(f"FibreMatrixJunctions: positions must be finite, of shape "
+                                 f"({mesh.num_nodes_global}, 3 or 9), got {x.shape}")
+            x = x[:, 0:3]
+        # particles of every selected element (replicated geometry: every
+        # rank computes all of them, then keeps those of its matrix cells)
+        elements = np.flatnonzero(np.isin(mesh.element_fibre, selected))
+        xi_q, w_q = _cpp.gauss_legendre(int(particles_per_element))
+        N, dN = _shape(mesh.order, xi_q)
+        xe = x[mesh.elements_global[elements]]                 # (ne, nf, 3)
+        pts = np.einsum("qa,eac->eqc", N, xe).reshape(-1, 3)
+        jac = np.linalg.norm(np.einsum("qa,eac->eqc", dN, xe), axis=2)
+        weight = (jac * w_q[None, :]).ravel()
+        self.particles_per_element = int(particles_per_element)
+        self._make(model, block, float(stiffness), np.repeat(elements, len(xi_q)),
+                   np.tile(xi_q, len(elements)), weight, pts)
+
+    def _make(self, model, block, stiffness, elem, xi, weight, pts) -> None:
+        """Junctions of the particles (global element, xi, weight, position)
+        that lie inside the block (collective)."""
+        mesh = model.mesh
+        self.fields = ("beam", block.name)
+        self.block, self.stiffness = block, stiffness
+        self._model = model
+        inside = _inside(block, np.ascontiguousarray(pts))
+        self.num_particles = len(pts)
+        self.num_outside = int(np.count_nonzero(~inside))
+        if inside.any():   # the same on every rank: point_basis is collective
+            cells, phi = block.point_basis(pts[inside])
+        else:
+            cells, phi = np.zeros(0, dtype=np.int32), np.zeros((0, 0))
+        mine = cells >= 0
+        sel = np.flatnonzero(inside)[mine]
+        self._elem_global = elem[sel]
+        self._xi, self._weight, self._points = xi[sel], weight[sel], pts[sel]
+        self._cells, self._phi = cells[mine], phi[mine]
+        nodes = mesh.elements_global[self._elem_global]           # (n, nf)
+        self._nodes_global = nodes
+        mesh.add_ghosts(nodes.ravel())
+
+        # couplings (junction, fibre node) whose node this rank does not own
+        lo, hi = mesh.owned
+        off = int(np.count_nonzero((nodes < lo) | (nodes >= hi)))
+        comm = model.comm
+        self.num_junctions = comm.allreduce(len(sel), op=MPI.SUM)
+        total_couplings = comm.allreduce(nodes.size, op=MPI.SUM)
+        self.num_off_rank_couplings = comm.allreduce(off, op=MPI.SUM)
+        self.off_rank_fraction = (self.num_off_rank_couplings / total_couplings
+                                  if total_couplings else 0.0)
+        self.total_weight = comm.allreduce(float(self._weight.sum()), op=MPI.SUM)
+        self._set = None
+
+    # -- Effect interface -------------------------------------------------
+    def setup(self, model) -> None:
+        if model is not self._model:
+            raise ValueError("FibreMatrixJunctions: the junctions belong to another model")
+        effects = model.effects
+        if self.block not in effects or effects.index(self.block) > effects.index(self):
+            # the block's set_pattern would replace the pattern filled here
+            raise ValueError("FibreMatrixJunctions: add the ElasticBlock to the model before "
+                             "its junctions")
+        mesh = model.mesh
+        local = mesh.global_to_local(self._nodes_global)
+        assert np.all(local >= 0), "junction nodes are local by construction (add_ghosts)"
+        self._local = local.astype(np.int32)
+        self._cell_nodes = np.ascontiguousarray(self.block.cell_dofs(self._cells), dtype=np.int32)
+        if not len(self._phi):
+            self._phi = np.zeros((0, self._cell_nodes.shape[1]))
+        if self._phi.shape[1] != self._cell_nodes.shape[1]:
+            raise RuntimeError("FibreMatrixJunctions: point_basis and cell_dofs disagree on the "
+                               "number of cell nodes")
+        # all junctions in one batch (C++): no Python loop per junction
+        self._set = _cpp.JunctionSet(
+            self.stiffness, mesh.order + 1, self._local.ravel(), self._xi, self._weight,
+            np.ascontiguousarray(mesh.X_local[:, 0:3]).ravel(),
+            np.ascontiguousarray(self._points).ravel(), self._cell_nodes.ravel(),
+            np.ascontiguousarray(self._phi, dtype=float).ravel())
+
+    def add_sparsity(self, sparsity) -> None:
+        m = self.block.name
+        if not len(self._local):
+            return
+        # one block per distinct (fibre element, matrix cell) pair
+        key = np.column_stack([self._local, self._cell_nodes])
+        for row in np.unique(key, axis=0):
+            nodes, dofs = row[: self._local.shape[1]], row[self._local.shape[1]:]
+            sparsity.insert("beam", "beam", nodes, nodes)
+            sparsity.insert("beam", m, nodes, dofs)
+            sparsity.insert(m, "beam", dofs, nodes)
+            sparsity.insert(m, m, dofs, dofs)
+
+    def residual(self, state: State, b) -> None:
+        self.energy = self._set.assemble_vector(state.u["beam"], state.u[self.block.name],
+                                                b["beam"], b[self.block.name])
+
+    def jacobian(self, state: State, A) -> None:
+        self._set.assemble_matrix(A, state.dofs["beam"], state.dofs[self.block.name])
+
+    def statistics(self) -> dict:
+        """Constants of the junction set (the same on every rank, not collective):
+        "junctions" (made), "junctions_outside" (particles outside the matrix,
+        no junction), "junction_length" (fibre length the junctions stand
+        for, sum of w), "junction_off_rank_fraction" (share of (junction,
+        fibre node) couplings whose node the assembling rank does not own)."""
+        return {"junctions": self.num_junctions, "junctions_outside": self.num_outside,
+                "junction_length": self.total_weight,
+                "junction_off_rank_fraction": self.off_rank_fraction}
+
+    # -- results ------------------------------------------------------------
+    def _state(self):
+        if self._set is None:
+            raise RuntimeError("FibreMatrixJunctions: the model is not set up yet")
+        st = self._model.state()
+        return st.u["beam"], st.u[self.block.name]
+
+    def points(self) -> np.ndarray:
+        """(n, 3) where this rank's junctions were made (X_m)."""
+        return self._points.copy()
+
+    def weights(self) -> np.ndarray:
+        """(n,) fibre length each of this rank's junctions stands for."""
+        return self._weight.copy()
+
+    def gaps(self) -> np.ndarray:
+        """(n, 3) x_f - x_m of this rank's junctions at the current solution."""
+        return self._set.gaps(*self._state())
+
+    def forces(self) -> np.ndarray:
+        """(n, 3) force k w (x_f - x_m) each of this rank's junctions exerts on
+        the matrix (the fibre receives the opposite), at the current solution."""
+        return self._set.forces(*self._state())
+
+    def total_force(self) -> np.ndarray:
+        """Total force (3,) the junctions exert on the matrix (collective)."""
+        return self._model.comm.allreduce(self._set.total_force(*self._state()), op=MPI.SUM)
