@@ -307,16 +307,20 @@ def _by_location(block, u_block):
 @pytest.mark.mpi
 def test_parallel_equals_serial():
     """The rule-of-mixtures case on all ranks and on one: the same force and
-    displacements, compared by physical location."""
+    displacements, compared by physical location; each held matrix node is
+    coupled once (by its owner, never again as a ghost)."""
     out = {}
     for name, comm in (("serial", MPI.COMM_SELF), ("parallel", MPI.COMM_WORLD)):
         model, fibres, block, _, _ = composite(comm, 8, "displacement", nested=True)
         solve(model)
-        out[name] = (model.rigid_bodies.reactions(), model.nodal_unknowns(),
-                     *_by_location(block, model.state().u[block.name]))
-    (rs, qs, Xs, us), (rp, qp, Xp, up) = out["serial"], out["parallel"]
-    assert np.abs(rs - rp).max() <= 1e-8 * np.abs(rs).max()
+        out[name] = (model.saddle_point_rows, model.rigid_bodies.reactions(),
+                     model.nodal_unknowns(), *_by_location(block, model.state().u[block.name]))
+    (ns, rs, qs, Xs, us), (np_, rp, qp, Xp, up) = out["serial"], out["parallel"]
+    assert ns == np_   # as many multiplier rows: no node coupled twice
+    # measured on 2 ranks: reactions 2.5e-14, fibre nodes 7.4e-13 of the end
+    # displacement, matrix nodes 1.1e-13 apart (the issue asks 1e-8)
+    assert np.abs(rs - rp).max() <= 1e-11 * np.abs(rs).max()
     # fibre nodes are numbered by fibre, whatever the partition
-    assert np.abs(qs - qp).max() <= 1e-8 * (STRETCH - 1) * L
-    assert np.array_equal(Xs, Xp)
-    assert np.abs(us - up).max() <= 1e-8 * np.abs(us).max()
+    assert np.abs(qs - qp).max() <= 1e-11 * (STRETCH - 1) * L
+    assert np.abs(Xs - Xp).max() < 1e-12 * L   # the same nodes (partitions differ in round-off)
+    assert np.abs(us - up).max() <= 1e-11 * np.abs(us).max()

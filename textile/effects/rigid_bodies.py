@@ -250,8 +250,10 @@ class RigidBodies(Effect):
         if self.block is not None:
             comm = model.comm
             Xb = self.block.node_coordinates()
-            lo = comm.allreduce(Xb.min(axis=0) if len(Xb) else np.full(3, np.inf), op=MPI.MIN)
-            hi = comm.allreduce(Xb.max(axis=0) if len(Xb) else np.full(3, -np.inf), op=MPI.MAX)
+            lo = Xb.min(axis=0) if len(Xb) else np.full(3, np.inf)
+            hi = Xb.max(axis=0) if len(Xb) else np.full(3, -np.inf)
+            comm.Allreduce(MPI.IN_PLACE, lo, op=MPI.MIN)
+            comm.Allreduce(MPI.IN_PLACE, hi, op=MPI.MAX)
             count = self.block.V.dofmap.index_map.size_global
             h_b = (np.prod(np.maximum(hi - lo, 1e-300)) / count) ** (1 / 3)
             position[self._is_block] = section[self._is_block] = self.block.young * h_b
