@@ -125,6 +125,10 @@ class RigidBodies(Effect):
         if comm.allreduce(self._held_twice(blocks), op=MPI.LOR):
             raise ValueError("a block node is held twice by rigid bodies, not all sliding: "
                              "select each node once")
+        # each coupling's holder (the body or member that lists it), by index
+        self._holders = [h for top in self.bodies for h in [top] + top.members()]
+        index = {id(h): i for i, h in enumerate(self._holders)}
+        self._holder = np.array([index[id(h)] for _, h, _, _ in self._held], dtype=np.int64)
         self._rows = np.array([self._coupling_rows(self.bodies[b], kind)
                                for b, _, kind, _ in self._held], dtype=np.int32)
         multipliers = _dcpp.common.IndexMap(comm, int(self._rows.sum()),
@@ -423,23 +427,25 @@ class RigidBodies(Effect):
     state_name = "rigid bodies"
 
     def _keys(self, model) -> list:
-        """(body, global node, kind) of each coupling of this rank: global
-        fibre node, or global block node for block nodes."""
-        start = self.block.V.dofmap.index_map.local_range[0] if self.block is not None else 0
-        out = []
-        for b, n, k in zip(self._body, self._node_local, self._kind):
-            g = start + int(n) if k == BLOCK_NODE else int(model.mesh.local_to_global[n])
-            out.append((int(b), g, int(k)))
-        return out
+        """(body, global fibre node, kind) of each fibre coupling of this rank
+        (partition independent), None for block nodes."""
+        return [None if k == BLOCK_NODE else (int(b), int(model.mesh.local_to_global[n]), int(k))
+                for b, n, k in zip(self._body, self._node_local, self._kind)]
 
     def save_state(self, model) -> dict:
-        """Bodies' unknowns and accumulated rotations, multipliers by
-        coupling (body, node, kind): independent of the MPI partition.
+        """Bodies' unknowns and accumulated rotations, multipliers of the
+        fibre couplings by (body, fibre node, kind): independent of the MPI
+        partition. Block nodes' multipliers are not saved (the block's
+        displacement is not saved either, and dolfinx's node numbers depend
+        on the partition); they restart at zero, which Newton corrects in
+        its first iteration (the constraints are linear in them).
         Collective; the result is complete on rank 0."""
         st = model.state()
         lam = st.u["rigid_multipliers"]
-        values = [np.pad(lam[m:m + r], (0, 9 - r)) for m, r in zip(self._multiplier, self._rows)]
-        keys = sum(model.comm.gather(self._keys(model), root=0) or [], [])
+        keys = self._keys(model)
+        values = [np.pad(lam[m:m + r], (0, 9 - r))
+                  for key, m, r in zip(keys, self._multiplier, self._rows) if key is not None]
+        keys = sum(model.comm.gather([k for k in keys if k is not None], root=0) or [], [])
         vals = sum(model.comm.gather(values, root=0) or [], [])
         return dict(unknowns=st.u["rigid"].reshape(-1, 6)[:len(self.bodies)],
                     rotation=self.rotation, turned=self.turned,
@@ -460,6 +466,9 @@ class RigidBodies(Effect):
         arrays[model.layout.index("rigid")][:] = data["unknowns"].ravel()
         lam = arrays[model.layout.index("rigid_multipliers")]
         for key, m, r in zip(self._keys(model), self._multiplier, self._rows):
+            if key is None:
+                lam[m:m + r] = 0.0
+                continue
             if key not in saved:
                 raise ValueError(f"the state file has no coupling of body {key[0]} to node "
                                  f"{key[1]} (kind {key[2]})")
@@ -500,8 +509,8 @@ class RigidBodies(Effect):
             top = top.parent
         if not any(top is b for b in self.bodies):
             raise ValueError(f"RigidBody {body.name!r} is not in the model")
-        group = [body] + body.members()
-        mask = np.array([any(h is g for g in group) for _, h, _, _ in self._held], dtype=bool)
+        group = {id(g) for g in [body] + body.members()}
+        mask = np.isin(self._holder, [i for i, h in enumerate(self._holders) if id(h) in group])
         b = next(i for i, t in enumerate(self.bodies) if t is top)
         return self._reactions(model, mask)[b]
 
