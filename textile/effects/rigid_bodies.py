@@ -532,6 +532,7 @@ class RigidBodies(Effect):
             self.stats[f"body {body.name} rotation"] = self.turned[b].tolist()
             if rb is not None and body.held("block_nodes"):
                 self.stats[f"body {body.name} block force"] = rb[b, 0:3].tolist()
+                self.stats[f"body {body.name} block moment"] = rb[b, 3:6].tolist()
             for m in body.members():
                 self.stats[f"body {m.name} force"] = self.reaction(m, model)[0:3].tolist()
 
