@@ -6,7 +6,7 @@ vector on top of the rotation accumulated over the accepted steps (exact
 for any total rotation; :mod:`textile.effects.rigid_bodies`). It holds
 
 - fibre end *sections* (a fibre node whose position and section vectors
-  follow the body exactly: the end is clamped to the body), and
+  follow the body exactly: the end is clamped to the body),
 - *pins* (a fibre node whose position only follows the body),
 - *member bodies* (nesting: e.g. a side of a sample gathers the bodies at
   the ends of the yarns on that side), and
@@ -33,7 +33,9 @@ g2 . n and their twist about n (g1 along the turned G2): the end section
 stays flat on the plate but may slide and contract. The body's
 translations in the plate's plane (and its rotation about n when it holds
 no sections) then act on nothing: prescribe them (an error is raised for
-an axis-aligned normal otherwise).
+an axis-aligned normal otherwise). A node may be held by several bodies
+only if they all slide (an edge shared by two plates, or a symmetry plane
+crossing a face), each holding its own component.
 
 Each component is either prescribed (a displacement, or a rotation angle
 about the fixed global axis x, y or z, reached at the end of the first
