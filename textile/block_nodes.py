@@ -31,7 +31,8 @@ class BlockNodes:
         from .effects.elastic_block import ElasticBlock
 
         if not isinstance(block, ElasticBlock):
-            raise TypeError(f"BlockNodes: block must be an ElasticBlock, got {type(block).__name__}")
+            raise TypeError(f"BlockNodes: block must be an ElasticBlock, got "
+                            f"{type(block).__name__}")
         if not callable(where):
             idx = np.asarray(where)
             if idx.ndim != 1 or (len(idx) and idx.dtype.kind not in "iu"):

@@ -392,7 +392,8 @@ class RigidBodies(Effect):
             stride = 3 if kind == BLOCK_NODE else 9
             held = self._held_components(i, kind)
             if np.any(d[stride * self._node_local[i] + held] < 0):
-                bad.append(f"{holder.name!r} ({'block node' if kind == BLOCK_NODE else 'fibre node'})")
+                what = "block node" if kind == BLOCK_NODE else "fibre node"
+                bad.append(f"{holder.name!r} ({what})")
         bad = sum(model.comm.allgather(bad[:3]), [])
         if bad:
             raise ValueError(f"rigid bodies hold unknowns that are also prescribed (a clamp or "
