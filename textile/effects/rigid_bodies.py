@@ -8,17 +8,32 @@ Fields:
   accepted step theta is folded into R_n and reset to zero, so the unknowns
   stay small and smooth whatever the total rotation (a turn of 2 pi brings
   R back to the identity to round-off). All bodies are owned by rank 0 and
-  ghosted on the others.
-- ``rigid_multipliers``: Lagrange multipliers of the couplings, 9 per held
-  section (x0, g1, g2), 3 per pin, owned by the rank owning the fibre node.
+  ghosted on the others. Member bodies (nesting, :mod:`textile.rigid_body`)
+  have no unknowns: their parent holds what they hold.
+- ``rigid_multipliers``: Lagrange multipliers of the couplings, one per
+  constraint row (block size 1): 9 per held section (x0, g1, g2), 3 per pin
+  or held block node, and for a sliding body (frictionless plate) 4 per
+  section and 1 per pin or block node. Each coupling's multipliers are
+  owned by the rank owning its node: fibre nodes by the fibre mesh's
+  owner, block nodes by the owner in the block's index map (a ghost node is
+  never coupled twice).
 
-The couplings are exact (:mod:`cpp/textile/rigid/rigid_coupling.h`): a held
-end section keeps its reference shape (no Poisson contraction at the body,
-which stiffens about one radius of fibre next to it). The system becomes a
-saddle point with one negative eigenvalue per multiplier: the stability
-check discounts them (``saddle_point_rows``). Each multiplier row is scaled
-by s = E A / h (the end element's axial stiffness; times R^2 for the
-section-vector rows) so that the saddle-point system stays balanced.
+The couplings are exact (``cpp/textile/rigid/rigid_coupling.h``, and
+``sliding_coupling.h`` for sliding bodies) and are assembled in one C++
+call for all of them. A fully held end section keeps its reference shape (no
+Poisson contraction at the body, which stiffens about one radius of fibre
+next to it). The system becomes a saddle point with one negative eigenvalue
+per multiplier: the stability check discounts them (``saddle_point_rows``).
+Each multiplier row is scaled by s = E A / h (the end element's axial
+stiffness; times R^2 for the section-vector rows), or E_m h for a block
+node (h the block's mean node spacing), so that the saddle-point system
+stays balanced.
+
+Held block nodes are not constrained dofs: they remain unknowns of the
+block, and the multipliers carry the body's force into them. A block node
+(or fibre unknown) that is both held by a body and prescribed elsewhere (an
+ElasticBlock clamp, ``Model.fix``) would be constrained twice: that is an
+error, found from the one constrained set every effect sees (state.dofs).
 """
 from __future__ import annotations
 
@@ -27,9 +42,13 @@ from dolfinx import cpp as _dcpp
 from mpi4py import MPI
 
 from .. import _cpp
+from ..block_nodes import select_block_nodes
 from ..layout import Field
 from ..rigid_body import BODY_DOFS, RigidBody
 from .base import Effect, State
+
+#: Coupling kinds (the third entry of saved coupling keys).
+PIN, SECTION, BLOCK_NODE = 0, 1, 2
 
 
 class RigidBodies(Effect):
@@ -43,8 +62,16 @@ class RigidBodies(Effect):
     def add(self, body: RigidBody) -> None:
         if not isinstance(body, RigidBody):
             raise TypeError(f"expected a textile.RigidBody, got {type(body).__name__}")
-        if any(b.name == body.name for b in self.bodies):
-            raise ValueError(f"a rigid body named {body.name!r} is already in the model")
+        if body.parent is not None:
+            raise ValueError(f"RigidBody {body.name!r} is gathered by {body.parent.name!r}: add "
+                             f"the gathering body to the model, not its members")
+        for m in body.bodies:
+            m.check_member()
+        names = [b.name for top in self.bodies for b in [top] + top.members()]
+        for b in [body] + body.members():
+            if b.name in names:
+                raise ValueError(f"a rigid body named {b.name!r} is already in the model")
+            names.append(b.name)
         self.bodies.append(body)
 
     @property
@@ -59,73 +86,216 @@ class RigidBodies(Effect):
     def add_fields(self, model) -> list:
         comm, mesh = model.comm, model.mesh
         n = len(self.bodies)
+        for body in self.bodies:
+            for m in body.bodies:
+                m.check_member()  # members may have been driven after gathering
+            self._check_sliding(body)
         if comm.rank == 0:
             bodies = _dcpp.common.IndexMap(comm, n, np.zeros(0, dtype=np.int64),
                                            np.zeros(0, dtype=np.int32))
         else:
             bodies = _dcpp.common.IndexMap(comm, 0, np.arange(n, dtype=np.int64),
                                            np.zeros(n, dtype=np.int32))
-        # couplings held on this rank: those of its owned fibre nodes
-        self._held = []  # (body, global node, section?)
+        # couplings held on this rank: (body, holder, kind, node) with node
+        # the global fibre node (pins, sections) or the local block node
+        self._held = []
+        self.block = None
         lo, hi = mesh.owned
+        fibre_nodes_all = []
         for b, body in enumerate(self.bodies):
-            for kind, pairs in ((True, body.sections), (False, body.pins)):
-                for f, node in pairs:
-                    g = mesh.node(f, node)
-                    if lo <= g < hi:
-                        self._held.append((b, g, kind))
-        blocks = sum(3 if s else 1 for _, _, s in self._held)
-        multipliers = _dcpp.common.IndexMap(comm, blocks, np.zeros(0, dtype=np.int64),
+            for holder in [body] + body.members():
+                for kind, pairs in ((SECTION, holder.sections), (PIN, holder.pins)):
+                    for f, node in pairs:
+                        g = mesh.node(f, node)
+                        fibre_nodes_all.append((g, body.slide is not None))
+                        if lo <= g < hi:
+                            self._held.append((b, holder, kind, g))
+                for entry in holder.block_nodes:
+                    self._use_block(entry.block, model)
+                    nodes = select_block_nodes(entry.block, entry.where)
+                    owned = nodes[nodes < entry.block.V.dofmap.index_map.size_local]
+                    self._held += [(b, holder, BLOCK_NODE, int(k)) for k in owned]
+        # a node may be held by several bodies only if they all slide (each
+        # holds its own component: a corner of two plates)
+        if self._held_twice(fibre_nodes_all):  # the same list on every rank
+            raise ValueError("a fibre node is held twice by rigid bodies (two bodies, or a body "
+                             "and its member), not all sliding: hold each end once")
+        blocks = [(g, self.bodies[b].slide is not None) for b, _, k, g in self._held
+                  if k == BLOCK_NODE]
+        if comm.allreduce(self._held_twice(blocks), op=MPI.LOR):
+            raise ValueError("a block node is held twice by rigid bodies, not all sliding: "
+                             "select each node once")
+        # each coupling's holder (the body or member that lists it), by index
+        self._holders = [h for top in self.bodies for h in [top] + top.members()]
+        index = {id(h): i for i, h in enumerate(self._holders)}
+        self._holder = np.array([index[id(h)] for _, h, _, _ in self._held], dtype=np.int64)
+        self._rows = np.array([self._coupling_rows(self.bodies[b], kind)
+                               for b, _, kind, _ in self._held], dtype=np.int32)
+        multipliers = _dcpp.common.IndexMap(comm, int(self._rows.sum()),
+                                            np.zeros(0, dtype=np.int64),
                                             np.zeros(0, dtype=np.int32))
-        return [Field("rigid", bodies, 6), Field("rigid_multipliers", multipliers, 3)]
+        return [Field("rigid", bodies, 6), Field("rigid_multipliers", multipliers, 1)]
+
+    @staticmethod
+    def _held_twice(nodes) -> bool:
+        """True if a node of [(node, sliding)] appears twice, not all sliding."""
+        seen = {}
+        for g, sliding in nodes:
+            seen.setdefault(g, []).append(sliding)
+        return any(len(v) > 1 and not all(v) for v in seen.values())
+
+    def _use_block(self, block, model) -> None:
+        if block not in model.effects:
+            raise ValueError(f"RigidBody holds nodes of the ElasticBlock {block.name!r}, which "
+                             f"is not in the model: add it (model.add_effect) first")
+        if self.block is not None and self.block is not block:
+            raise NotImplementedError("rigid bodies hold nodes of one ElasticBlock per model")
+        self.block = block
+        if block.name not in self.fields:
+            self.fields = self.fields + (block.name,)
+
+    @staticmethod
+    def _coupling_rows(body: RigidBody, kind: int) -> int:
+        if body.slide is None:
+            return 9 if kind == SECTION else 3
+        return 4 if kind == SECTION else 1
+
+    @staticmethod
+    def _check_sliding(body: RigidBody) -> None:
+        """A sliding body's translations in its plane (and its rotation about
+        the normal, unless it holds sections) act on nothing: they must be
+        prescribed. Checked for axis-aligned normals."""
+        n = body.slide
+        if n is None:
+            return
+        axis = np.flatnonzero(np.isclose(np.abs(n), 1.0))
+        if not len(axis):
+            return
+        a = int(axis[0])
+        need = [d for d in range(3) if d != a]
+        if not body.held("sections"):
+            need.append(3 + a)
+        missing = [BODY_DOFS[d] for d in need if not body.prescriptions.active[d]]
+        if missing:
+            raise ValueError(f"RigidBody {body.name!r} slides in the plane normal to "
+                             f"{BODY_DOFS[a]}: nothing resists its components {missing}; "
+                             f"prescribe them (e.g. body.fix({missing}))")
 
     def setup(self, model) -> None:
         mesh, comm = model.mesh, model.comm
         self.model = model
         n = len(self.bodies)
-        # reference centres (every rank: the geometry is replicated)
+        held = self._held
+        kind = np.array([k for _, _, k, _ in held], dtype=np.int32)
+        self._body = np.array([b for b, _, _, _ in held], dtype=np.int32)
+        self._kind = kind
+        self._section = kind == SECTION
+        self._is_block = kind == BLOCK_NODE
+        fibre = ~self._is_block
+        X = mesh.X_global
+        Xb = self.block.node_coordinates() if self.block is not None else np.zeros((0, 3))
+        self._Xb = np.ascontiguousarray(Xb.ravel())
+        nodes = np.array([g for _, _, _, g in held], dtype=np.int64)
+        # reference positions of what is held: [x0, g1, g2] (block nodes: x0 only)
+        ref = np.zeros((len(held), 9))
+        ref[fibre] = X[nodes[fibre]]
+        ref[self._is_block, 0:3] = Xb[nodes[self._is_block]]
+        self._node_local = np.zeros(len(held), dtype=np.int32)
+        self._node_local[fibre] = mesh.global_to_local(nodes[fibre])
+        self._node_local[self._is_block] = nodes[self._is_block]
+        # reference centres: the mean of what each body holds, each fibre
+        # node once (geometry replicated: counted on rank 0) and each block
+        # node once (by its owner)
+        sums, counts = np.zeros((n, 3)), np.zeros(n)
+        if comm.rank == 0:
+            for b, body in enumerate(self.bodies):
+                g = [mesh.node(f, k) for f, k in body.held("sections") + body.held("pins")]
+                sums[b] += X[g, 0:3].sum(axis=0) if g else 0.0
+                counts[b] += len(g)
+        np.add.at(sums, self._body[self._is_block], ref[self._is_block, 0:3])
+        np.add.at(counts, self._body[self._is_block], 1.0)
+        sums, counts = comm.allreduce(sums, op=MPI.SUM), comm.allreduce(counts, op=MPI.SUM)
         self.centres = np.zeros((n, 3))
         for b, body in enumerate(self.bodies):
-            nodes = [mesh.node(f, k) for f, k in body.sections + body.pins]
-            self.centres[b] = body.centre if body.centre is not None \
-                else mesh.X_global[nodes, 0:3].mean(axis=0)
+            if body.centre is not None:
+                self.centres[b] = body.centre
+            elif counts[b] == 0:
+                raise ValueError(f"RigidBody {body.name!r} holds nothing in this model (its "
+                                 f"block-node selection is empty)")
+            else:
+                self.centres[b] = sums[b] / counts[b]
         self.rotation = np.tile(np.eye(3), (n, 1, 1))   # R_n, accumulated
         self.turned = np.zeros((n, 3))                  # accumulated rotation increments
-        X = mesh.X_global
-        held = self._held
-        self._node_local = mesh.global_to_local([g for _, g, _ in held]).astype(np.int32)
-        self._body = np.array([b for b, _, _ in held], dtype=np.int32)
-        self._section = np.array([s for _, _, s in held], dtype=bool)
-        rows = np.where(self._section, 9, 3)
+        rows = self._rows
         self._multiplier = np.concatenate([[0], np.cumsum(rows)[:-1]]).astype(np.int32) \
             if len(rows) else np.zeros(0, dtype=np.int32)
-        self._ref_offset = X[[g for _, g, _ in held], 0:3] - self.centres[self._body] \
-            if held else np.zeros((0, 3))
-        self._ref_g1 = X[[g for _, g, _ in held], 3:6] if held else np.zeros((0, 3))
-        self._ref_g2 = X[[g for _, g, _ in held], 6:9] if held else np.zeros((0, 3))
-        # row scales: the end element's axial stiffness E A / h
-        scale = np.zeros(len(held))
-        for i, (_, g, _) in enumerate(held):
-            f = int(np.searchsorted(mesh.first_node, g, side="right") - 1)
-            fib = mesh.fibres[f]
-            h = fib.length / ((fib.num_nodes - 1) // mesh.order)
-            scale[i] = fib.material.young * np.pi * fib.radius ** 2 / h
-        radius = np.array([mesh.fibres[int(np.searchsorted(mesh.first_node, g, side="right") - 1)]
-                           .radius for _, g, _ in held])
-        self._scale_position = scale
-        self._scale_section = scale * radius ** 2 if held else scale
+        self._ref_offset = ref[:, 0:3] - self.centres[self._body] if held else np.zeros((0, 3))
+        self._ref_g1, self._ref_g2 = ref[:, 3:6], ref[:, 6:9]
+        self._scale_position, self._scale_section = self._row_scales(model, nodes)
+        self._sliding_rows(ref)
         self.set = _cpp.RigidBodySet()
         self.set.set_centres(self.centres)
         self._set_couplings()
         self._X = np.ascontiguousarray(mesh.X_local.ravel())
-        self._saddle = comm.allreduce(int(rows.sum()) if len(rows) else 0)
+        self._saddle = comm.allreduce(int(rows.sum()))
+        self._checked_dofs = None
+
+    def _row_scales(self, model, nodes) -> tuple[np.ndarray, np.ndarray]:
+        """Row scales s: fibres E A / h of the end element (x0 rows), times
+        R^2 for section-vector rows; block nodes E_m h_b, h_b the block's
+        mean node spacing (the stiffness of a P1 node)."""
+        mesh = model.mesh
+        position, section = np.zeros(len(nodes)), np.zeros(len(nodes))
+        for i in np.flatnonzero(~self._is_block):
+            fib = mesh.fibres[int(np.searchsorted(mesh.first_node, nodes[i], side="right") - 1)]
+            h = fib.length / ((fib.num_nodes - 1) // mesh.order)
+            position[i] = fib.material.young * np.pi * fib.radius ** 2 / h
+            section[i] = position[i] * fib.radius ** 2
+        if self.block is not None:
+            comm = model.comm
+            Xb = self.block.node_coordinates()
+            lo = Xb.min(axis=0) if len(Xb) else np.full(3, np.inf)
+            hi = Xb.max(axis=0) if len(Xb) else np.full(3, -np.inf)
+            comm.Allreduce(MPI.IN_PLACE, lo, op=MPI.MIN)
+            comm.Allreduce(MPI.IN_PLACE, hi, op=MPI.MAX)
+            count = self.block.V.dofmap.index_map.size_global
+            h_b = (np.prod(np.maximum(hi - lo, 1e-300)) / count) ** (1 / 3)
+            position[self._is_block] = section[self._is_block] = self.block.young * h_b
+        return position, section
+
+    def _sliding_rows(self, ref) -> None:
+        """Rows of the couplings of sliding bodies: (held vector, direction
+        in the reference frame). Sections: x0, g1, g2 along the normal, and
+        g1 along G2 (the twist about the normal); points: x0 along it."""
+        count, vector, direction, body = [], [], [], []
+        for i, (b, _, kind, _) in enumerate(self._held):
+            nrm = self.bodies[b].slide
+            if nrm is None:
+                count.append(0)
+                continue
+            rows = [(0, nrm)]
+            if kind == SECTION:
+                G2 = ref[i, 6:9]
+                rows += [(1, nrm), (2, nrm), (1, G2 / np.linalg.norm(G2))]
+            count.append(len(rows))
+            vector += [v for v, _ in rows]
+            direction += [d for _, d in rows]
+            body += [b] * len(rows)
+        self._sliding_count = np.array(count, dtype=np.int32)
+        self._sliding_start = np.concatenate([[0], np.cumsum(count)]).astype(np.int64)
+        self._row_vector = np.array(vector, dtype=np.int32)
+        self._row_direction = np.array(direction, dtype=float).reshape(-1, 3)
+        self._row_body = np.array(body, dtype=np.int32)
 
     def _set_couplings(self) -> None:
         R = self.rotation[self._body] if len(self._body) else np.zeros((0, 3, 3))
         turn = lambda v: np.ascontiguousarray(np.einsum("nij,nj->ni", R, v))  # noqa: E731
+        Rrow = self.rotation[self._row_body] if len(self._row_body) else np.zeros((0, 3, 3))
+        directions = np.ascontiguousarray(np.einsum("nij,nj->ni", Rrow, self._row_direction))
         self.set.set_couplings(self._body, self._node_local, self._multiplier, self._section,
-                               turn(self._ref_offset), turn(self._ref_g1), turn(self._ref_g2),
-                               self._scale_position, self._scale_section)
+                               self._is_block, turn(self._ref_offset), turn(self._ref_g1),
+                               turn(self._ref_g2), self._scale_position, self._scale_section,
+                               self._sliding_count, self._row_vector, directions)
 
     def saddle_point_rows(self) -> int:
         """Negative eigenvalues the multipliers add to the tangent (global)."""
@@ -154,11 +324,15 @@ class RigidBodies(Effect):
         self.set.set_loads(np.ascontiguousarray(loads[:, 0:3]),
                            np.ascontiguousarray(loads[:, 3:6]))
 
+    def _block_u(self, state: State) -> np.ndarray:
+        return state.u[self.block.name] if self.block is not None else np.zeros(0)
+
     def residual(self, state: State, b) -> None:
         self._set_loads(state.load_factor)
+        b_block = b[self.block.name] if self.block is not None else np.zeros(0)
         self.set.assemble_vector(self._X, state.u["beam"], state.u["rigid"],
-                                 state.u["rigid_multipliers"], b["beam"], b["rigid"],
-                                 b["rigid_multipliers"])
+                                 state.u["rigid_multipliers"], self._Xb, self._block_u(state),
+                                 b["beam"], b["rigid"], b["rigid_multipliers"], b_block)
 
     def external(self, state: State, b) -> None:
         loads = self._loads(state.load_factor)
@@ -166,26 +340,76 @@ class RigidBodies(Effect):
             b["rigid"][:6 * len(loads)] += loads.ravel()
 
     def add_sparsity(self, sparsity) -> None:
-        for i, (node, body, section) in enumerate(zip(self._node_local, self._body,
-                                                      self._section)):
-            mult = np.arange(3 if section else 1, dtype=np.int32) + self._multiplier[i] // 3
-            blocks = {"beam": np.array([node], dtype=np.int32),
-                      "rigid": np.array([body], dtype=np.int32), "rigid_multipliers": mult}
-            for r, rows in blocks.items():
-                for c, cols in blocks.items():
-                    sparsity.insert(r, c, rows, cols)
+        # per body, its nodes x its unknowns and its multipliers x its
+        # unknowns are dense products (one insertion each); node-multiplier
+        # pairs are one per coupling
+        field = {False: "beam", True: self.block.name if self.block is not None else None}
+        one = lambda k: np.array([k], dtype=np.int32)  # noqa: E731
+        rows_of = [np.arange(m, m + r, dtype=np.int32)
+                   for m, r in zip(self._multiplier, self._rows)]
+        for b in range(len(self.bodies)):
+            mine = self._body == b
+            for is_block in (False, True):
+                nodes = self._node_local[mine & (self._is_block == is_block)]
+                if len(nodes):
+                    sparsity.insert(field[is_block], "rigid", nodes, one(b))
+                    sparsity.insert("rigid", field[is_block], one(b), nodes)
+            if mine.any():
+                mult = np.concatenate([rows_of[i] for i in np.flatnonzero(mine)])
+                sparsity.insert("rigid_multipliers", "rigid", mult, one(b))
+                sparsity.insert("rigid", "rigid_multipliers", one(b), mult)
+        for i, (node, is_block) in enumerate(zip(self._node_local, self._is_block)):
+            sparsity.insert(field[bool(is_block)], "rigid_multipliers", one(node), rows_of[i])
+            sparsity.insert("rigid_multipliers", field[bool(is_block)], rows_of[i], one(node))
+        # an explicit (zero) diagonal on every multiplier row
+        sparsity.pattern("rigid_multipliers", "rigid_multipliers").insert_diagonal(
+            np.arange(int(self._rows.sum()), dtype=np.int32))
         if self.model.comm.rank == 0:
             for k in range(len(self.bodies)):
-                sparsity.insert("rigid", "rigid", np.array([k], dtype=np.int32),
-                                np.array([k], dtype=np.int32))
+                sparsity.insert("rigid", "rigid", one(k), one(k))
 
     def jacobian(self, state: State, A) -> None:
         self._set_loads(state.load_factor)
+        dofs_block = state.dofs[self.block.name] if self.block is not None \
+            else np.zeros(0, dtype=np.int32)
         self.set.assemble_matrix(A, self._X, state.u["beam"], state.u["rigid"],
-                                 state.u["rigid_multipliers"], state.dofs["beam"],
-                                 state.dofs["rigid"], state.dofs["rigid_multipliers"])
+                                 state.u["rigid_multipliers"], self._Xb, self._block_u(state),
+                                 state.dofs["beam"], state.dofs["rigid"],
+                                 state.dofs["rigid_multipliers"], dofs_block)
 
     # -- load steps ------------------------------------------------------------
+    def prepare(self, model) -> None:
+        """Refuse unknowns that a body holds and something else prescribes
+        (checked when the constrained set changes: per stage)."""
+        dofs = model.state().dofs
+        key = (id(dofs["beam"]), id(dofs.get(self.block.name)) if self.block else None)
+        if self._checked_dofs == key:
+            return
+        self._checked_dofs = key
+        bad = []
+        for i, (b, holder, kind, _) in enumerate(self._held):
+            d = dofs[self.block.name] if kind == BLOCK_NODE else dofs["beam"]
+            stride = 3 if kind == BLOCK_NODE else 9
+            held = self._held_components(i, kind)
+            if np.any(d[stride * self._node_local[i] + held] < 0):
+                what = "block node" if kind == BLOCK_NODE else "fibre node"
+                bad.append(f"{holder.name!r} ({what})")
+        bad = sum(model.comm.allgather(bad[:3]), [])
+        if bad:
+            raise ValueError(f"rigid bodies hold unknowns that are also prescribed (a clamp or "
+                             f"Model.fix): {', '.join(bad[:3])}; a held unknown follows its body "
+                             f"only")
+
+    def _held_components(self, i: int, kind: int) -> np.ndarray:
+        """Unknowns (0..8) of coupling i that its rows constrain."""
+        if self._sliding_count[i] == 0:
+            return np.arange(9 if kind == SECTION else 3)
+        rows = slice(self._sliding_start[i], self._sliding_start[i + 1])
+        out = []
+        for v, d in zip(self._row_vector[rows], self._row_direction[rows]):
+            out += [3 * v + k for k in range(3) if abs(d[k]) > 1e-12]
+        return np.unique(np.array(out, dtype=np.int64))
+
     def commit(self, model) -> None:
         """Fold each body's incremental rotation into R_n and reset it."""
         st = model.state()
@@ -203,17 +427,26 @@ class RigidBodies(Effect):
     # -- saved states (textile.io.state_file) ----------------------------------
     state_name = "rigid bodies"
 
+    def _keys(self, model) -> list:
+        """(body, global fibre node, kind) of each fibre coupling of this rank
+        (partition independent), None for block nodes."""
+        return [None if k == BLOCK_NODE else (int(b), int(model.mesh.local_to_global[n]), int(k))
+                for b, n, k in zip(self._body, self._node_local, self._kind)]
+
     def save_state(self, model) -> dict:
-        """Bodies' unknowns and accumulated rotations, multipliers by
-        coupling (body, fibre node): independent of the MPI partition.
+        """Bodies' unknowns and accumulated rotations, multipliers of the
+        fibre couplings by (body, fibre node, kind): independent of the MPI
+        partition. Block nodes' multipliers are not saved (the block's
+        displacement is not saved either, and dolfinx's node numbers depend
+        on the partition); they restart at zero, which Newton corrects in
+        its first iteration (the constraints are linear in them).
         Collective; the result is complete on rank 0."""
         st = model.state()
         lam = st.u["rigid_multipliers"]
-        held = [(int(b), int(model.mesh.local_to_global[n]), int(s))
-                for b, n, s in zip(self._body, self._node_local, self._section)]
-        values = [np.pad(lam[m:m + (9 if s else 3)], (0, 0 if s else 6))
-                  for m, s in zip(self._multiplier, self._section)]
-        keys = sum(model.comm.gather(held, root=0) or [], [])
+        keys = self._keys(model)
+        values = [np.pad(lam[m:m + r], (0, 9 - r))
+                  for key, m, r in zip(keys, self._multiplier, self._rows) if key is not None]
+        keys = sum(model.comm.gather([k for k in keys if k is not None], root=0) or [], [])
         vals = sum(model.comm.gather(values, root=0) or [], [])
         return dict(unknowns=st.u["rigid"].reshape(-1, 6)[:len(self.bodies)],
                     rotation=self.rotation, turned=self.turned,
@@ -233,21 +466,54 @@ class RigidBodies(Effect):
         arrays = [a.copy() for a in model.layout.get_local(model.x)]
         arrays[model.layout.index("rigid")][:] = data["unknowns"].ravel()
         lam = arrays[model.layout.index("rigid_multipliers")]
-        for b, n, s, m in zip(self._body, self._node_local, self._section, self._multiplier):
-            key = (int(b), int(model.mesh.local_to_global[n]), int(s))
+        for key, m, r in zip(self._keys(model), self._multiplier, self._rows):
+            if key is None:
+                lam[m:m + r] = 0.0
+                continue
             if key not in saved:
-                raise ValueError(f"the state file has no coupling of body {b} to node {key[1]}")
-            lam[m:m + (9 if s else 3)] = saved[key][:9 if s else 3]
+                raise ValueError(f"the state file has no coupling of body {key[0]} to node "
+                                 f"{key[1]} (kind {key[2]})")
+            lam[m:m + r] = saved[key][:r]
         model.layout.scatter(model.x, arrays)
 
     # -- results ---------------------------------------------------------------
-    def reactions(self, model=None) -> np.ndarray:
-        """(bodies, 6): force and moment (about the current centre) each body
-        exerts on what it holds, at the model's current state (collective)."""
+    def _reactions(self, model, couplings: np.ndarray | None) -> np.ndarray:
+        """(bodies, 6) from the couplings selected by the mask ``couplings``
+        (None: all): a coupling's force on what it holds is s lambda, so the
+        others' multipliers are set to zero. Collective."""
         model = model or self.model
         st = model.state()
-        r = self.set.reactions(self._X, st.u["beam"], st.u["rigid"], st.u["rigid_multipliers"])
+        lam = st.u["rigid_multipliers"]
+        if couplings is not None:
+            lam = lam * np.repeat(couplings, self._rows)
+        r = self.set.reactions(self._X, st.u["beam"], st.u["rigid"], lam, self._Xb,
+                               self._block_u(st))
         return model.comm.allreduce(r, op=MPI.SUM)
+
+    def reactions(self, model=None, part: str = "all") -> np.ndarray:
+        """(bodies, 6): force and moment (about the current centre) each body
+        exerts on what it holds, at the model's current state (collective).
+        ``part``: "all", "fibres" (sections and pins) or "block" (the block
+        nodes' share)."""
+        masks = {"all": None, "fibres": ~self._is_block, "block": self._is_block}
+        if part not in masks:
+            raise ValueError(f"part must be one of {tuple(masks)}, got {part!r}")
+        return self._reactions(model, masks[part])
+
+    def reaction(self, body: RigidBody, model=None) -> np.ndarray:
+        """(6,) force and moment that ``body`` (a body of the model or a
+        member of one) transmits to what it holds, its own members' included;
+        the moment is about the current centre of the body of the model that
+        gathers it. Collective."""
+        top = body
+        while top.parent is not None:
+            top = top.parent
+        if not any(top is b for b in self.bodies):
+            raise ValueError(f"RigidBody {body.name!r} is not in the model")
+        group = {id(g) for g in [body] + body.members()}
+        mask = np.isin(self._holder, [i for i, h in enumerate(self._holders) if id(h) in group])
+        b = next(i for i, t in enumerate(self.bodies) if t is top)
+        return self._reactions(model, mask)[b]
 
     def positions(self, model=None) -> np.ndarray:
         """(bodies, 3) current centres."""
@@ -257,6 +523,7 @@ class RigidBodies(Effect):
 
     def _statistics(self, model) -> None:
         r = self.reactions(model)
+        rb = self.reactions(model, "block") if self.block is not None else None
         c = self.positions(model)
         self.stats = {}
         for b, body in enumerate(self.bodies):
@@ -264,6 +531,11 @@ class RigidBodies(Effect):
             self.stats[f"body {body.name} moment"] = r[b, 3:6].tolist()
             self.stats[f"body {body.name} centre"] = c[b].tolist()
             self.stats[f"body {body.name} rotation"] = self.turned[b].tolist()
+            if rb is not None and body.held("block_nodes"):
+                self.stats[f"body {body.name} block force"] = rb[b, 0:3].tolist()
+                self.stats[f"body {body.name} block moment"] = rb[b, 3:6].tolist()
+            for m in body.members():
+                self.stats[f"body {m.name} force"] = self.reaction(m, model)[0:3].tolist()
 
     def statistics(self) -> dict:
         return dict(getattr(self, "stats", {}))

@@ -10,10 +10,11 @@ namespace
 {
 using assembly::check;
 
-/// Unknowns of one coupling gathered from the local arrays, and its kernel output.
+/// Unknowns of one coupling gathered from the local arrays, and its kernel
+/// output: nq held unknowns, m constraint rows.
 struct Local
 {
-  int m = 9;
+  int nq = 9, m = 9;
   std::array<double, 9> q{}, lambda{}, scale{};
   std::array<double, 3> centre{}, theta{};
   std::vector<double> r, K;
@@ -23,31 +24,45 @@ struct Local
 template <typename Visit>
 void RigidBodySet::each(std::span<const double> X, std::span<const double> u_fibre,
                         std::span<const double> u_body, std::span<const double> lambda,
-                        bool tangent, Visit&& visit) const
+                        BlockArrays block, bool tangent, Visit&& visit) const
 {
   Local l;
   for (const auto& c : couplings)
   {
-    l.m = c.base.rows();
+    l.nq = c.unknowns();
+    l.m = c.rows();
+    const bool fibre = c.holds == Holds::fibre;
+    // fibre nodes carry 9 unknowns (positions = X + u), block nodes 3
+    const std::size_t stride = fibre ? 9 : 3;
+    const auto& Xq = fibre ? X : block.X;
+    const auto& uq = fibre ? u_fibre : block.u;
+    for (int k = 0; k < l.nq; ++k)
+    {
+      const std::size_t i = stride * static_cast<std::size_t>(c.node) + k;
+      l.q[k] = Xq[i] + uq[i];
+    }
     for (int k = 0; k < l.m; ++k)
     {
-      const std::size_t i = 9 * static_cast<std::size_t>(c.node) + k;
-      l.q[k] = X[i] + u_fibre[i];
       l.lambda[k] = lambda[c.multiplier + k];
-      l.scale[k] = k < 3 ? c.scale_position : c.scale_section;
+      const bool position = c.sliding.empty() ? k < 3 : c.sliding[k].vector == 0;
+      l.scale[k] = position ? c.scale_position : c.scale_section;
     }
     for (int k = 0; k < 3; ++k)
     {
       l.centre[k] = centres[c.body](k) + u_body[6 * c.body + k];
       l.theta[k] = u_body[6 * c.body + 3 + k];
     }
-    const int n = 2 * l.m + 6;
+    const int n = l.nq + 6 + l.m;
     l.r.assign(n, 0.0);
     if (tangent)
       l.K.assign(n * n, 0.0);
-    rigid_coupling(c.base, std::span(l.q).first(l.m), l.centre, l.theta,
-                   std::span(l.lambda).first(l.m), std::span(l.scale).first(l.m), l.r,
-                   tangent ? std::span<double>(l.K) : std::span<double>());
+    const auto K = tangent ? std::span<double>(l.K) : std::span<double>();
+    if (c.sliding.empty())
+      rigid_coupling(c.base, std::span(l.q).first(l.nq), l.centre, l.theta,
+                     std::span(l.lambda).first(l.m), std::span(l.scale).first(l.m), l.r, K);
+    else
+      sliding_coupling(c.base, c.sliding, std::span(l.q).first(l.nq), l.centre, l.theta,
+                       std::span(l.lambda).first(l.m), std::span(l.scale).first(l.m), l.r, K);
     visit(c, l);
   }
 }
@@ -55,19 +70,22 @@ void RigidBodySet::each(std::span<const double> X, std::span<const double> u_fib
 void RigidBodySet::assemble_vector(std::span<const double> X,
                                    std::span<const double> u_fibre,
                                    std::span<const double> u_body,
-                                   std::span<const double> lambda, std::span<double> b_fibre,
-                                   std::span<double> b_body, std::span<double> b_lambda) const
+                                   std::span<const double> lambda, BlockArrays block,
+                                   std::span<double> b_fibre, std::span<double> b_body,
+                                   std::span<double> b_lambda, std::span<double> b_block) const
 {
-  each(X, u_fibre, u_body, lambda, false,
+  each(X, u_fibre, u_body, lambda, block, false,
        [&](const Coupling& c, const Local& l)
        {
+         const bool fibre = c.holds == Holds::fibre;
+         auto& bq = fibre ? b_fibre : b_block;
+         const std::size_t stride = fibre ? 9 : 3;
+         for (int k = 0; k < l.nq; ++k)
+           bq[stride * static_cast<std::size_t>(c.node) + k] += l.r[k];
          for (int k = 0; k < l.m; ++k)
-         {
-           b_fibre[9 * static_cast<std::size_t>(c.node) + k] += l.r[k];
-           b_lambda[c.multiplier + k] += l.r[l.m + 6 + k];
-         }
+           b_lambda[c.multiplier + k] += l.r[l.nq + 6 + k];
          for (int k = 0; k < 6; ++k)
-           b_body[6 * c.body + k] += l.r[l.m + k];
+           b_body[6 * c.body + k] += l.r[l.nq + k];
        });
   // body loads live with the bodies' owner: the caller passes them only there
   for (std::size_t b = 0; b < forces.size(); ++b)
@@ -88,25 +106,46 @@ void RigidBodySet::assemble_vector(std::span<const double> X,
 void RigidBodySet::assemble_matrix(Mat A, std::span<const double> X,
                                    std::span<const double> u_fibre,
                                    std::span<const double> u_body,
-                                   std::span<const double> lambda,
+                                   std::span<const double> lambda, BlockArrays block,
                                    std::span<const std::int32_t> dofs_fibre,
                                    std::span<const std::int32_t> dofs_body,
-                                   std::span<const std::int32_t> dofs_lambda) const
+                                   std::span<const std::int32_t> dofs_lambda,
+                                   std::span<const std::int32_t> dofs_block) const
 {
   std::vector<PetscInt> idx;
-  each(X, u_fibre, u_body, lambda, true,
+  std::vector<double> rows;
+  each(X, u_fibre, u_body, lambda, block, true,
        [&](const Coupling& c, const Local& l)
        {
+         const bool fibre = c.holds == Holds::fibre;
+         const auto& dq = fibre ? dofs_fibre : dofs_block;
+         const std::size_t stride = fibre ? 9 : 3;
          idx.clear();
-         for (int k = 0; k < l.m; ++k)
-           idx.push_back(dofs_fibre[9 * static_cast<std::size_t>(c.node) + k]);
+         for (int k = 0; k < l.nq; ++k)
+           idx.push_back(dq[stride * static_cast<std::size_t>(c.node) + k]);
          for (int k = 0; k < 6; ++k)
            idx.push_back(dofs_body[6 * c.body + k]);
          for (int k = 0; k < l.m; ++k)
            idx.push_back(dofs_lambda[c.multiplier + k]);
-         const auto n = static_cast<PetscInt>(idx.size());
-         check(MatSetValuesLocal(A, n, idx.data(), n, idx.data(), l.K.data(), ADD_VALUES),
-               "MatSetValuesLocal");
+         const int n = static_cast<int>(idx.size());
+         // the q-q and lambda-lambda blocks are zero: insert the rest only,
+         // so the sparsity needs no multiplier-multiplier or extra node-node
+         // entries. Rows q: columns [u, theta, lambda]; rows body: all;
+         // rows lambda: columns [q, u, theta].
+         const int nb = l.nq + 6;
+         rows.resize(static_cast<std::size_t>(n) * n);
+         auto insert = [&](int r0, int nr, int c0, int nc)
+         {
+           for (int i = 0; i < nr; ++i)
+             for (int j = 0; j < nc; ++j)
+               rows[i * nc + j] = l.K[(r0 + i) * n + c0 + j];
+           check(MatSetValuesLocal(A, nr, idx.data() + r0, nc, idx.data() + c0, rows.data(),
+                                   ADD_VALUES),
+                 "MatSetValuesLocal");
+         };
+         insert(0, l.nq, l.nq, n - l.nq);
+         insert(l.nq, 6, 0, n);
+         insert(nb, l.m, 0, nb);
        });
   for (std::size_t b = 0; b < moments.size(); ++b)
   {
@@ -127,18 +166,19 @@ void RigidBodySet::assemble_matrix(Mat A, std::span<const double> X,
 std::vector<BodyReaction> RigidBodySet::reactions(std::span<const double> X,
                                                   std::span<const double> u_fibre,
                                                   std::span<const double> u_body,
-                                                  std::span<const double> lambda) const
+                                                  std::span<const double> lambda,
+                                                  BlockArrays block) const
 {
   std::vector<BodyReaction> out(centres.size());
-  each(X, u_fibre, u_body, lambda, false,
+  each(X, u_fibre, u_body, lambda, block, false,
        [&](const Coupling& c, const Local& l)
        {
-         // the body pushes the held unknowns with -s lambda (the coupling's
-         // internal force on them is +s lambda); section-vector forces f_a
-         // carry the moment g_a x f_a
+         // the body pushes the held unknowns with minus the coupling's
+         // internal force on them; section-vector forces f_a carry the
+         // moment g_a x f_a
          const Eigen::Vector3d centre(l.centre.data());
          auto& rb = out[c.body];
-         for (int v = 0; v * 3 < l.m; ++v)
+         for (int v = 0; v * 3 < l.nq; ++v)
          {
            Eigen::Vector3d f, x;
            for (int k = 0; k < 3; ++k)
