@@ -21,7 +21,7 @@ from mpi4py import MPI
 import textile
 from textile.block_nodes import BlockNodes
 from textile.effects.elastic_block import ElasticBlock
-from textile.effects.fibre_matrix_tie import FibreMatrixTie
+from textile.effects.fibre_matrix_junction import FibreMatrixJunctions
 from textile.matrix_mesh import box_mesh
 
 L, W, H = 1.0, 0.4, 0.4           # m
@@ -34,13 +34,12 @@ QUIET = dict(verbose=False)
 
 
 def couple_fibres_to_matrix(model, block, fibres):
-    """The one place where fibres and matrix are joined: today node ties
-    (FibreMatrixTie at every fibre node, k = 10 E_m h); the integrator
-    switches this function to FibreMatrixJunctions. Returns the effect."""
-    tie = FibreMatrixTie(model, block, [(f, k) for f in fibres for k in range(f.num_nodes)],
-                         10 * E_M * L / CELLS[0])
-    model.add_effect(tie)
-    return tie
+    """The one place where fibres and matrix are joined: junctions at the
+    fibres' Gauss points, k = E_m per unit length (the default). Returns
+    the effect."""
+    junctions = FibreMatrixJunctions(model, block, fibres=fibres)
+    model.add_effect(junctions)
+    return junctions
 
 
 def largest_junction_force(model, junction):
