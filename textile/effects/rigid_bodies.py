@@ -191,18 +191,41 @@ class RigidBodies(Effect):
         self._kind = kind
         self._section = kind == SECTION
         self._is_block = kind == BLOCK_NODE
+        self._Xb_ref = self.block.node_coordinates() if self.block is not None \
+            else np.zeros((0, 3))
+        self._Xb = np.ascontiguousarray(self._Xb_ref.ravel())
         fibre = ~self._is_block
-        X = mesh.X_global
-        Xb = self.block.node_coordinates() if self.block is not None else np.zeros((0, 3))
-        self._Xb = np.ascontiguousarray(Xb.ravel())
         nodes = np.array([g for _, _, _, g in held], dtype=np.int64)
-        # reference positions of what is held: [x0, g1, g2] (block nodes: x0 only)
-        ref = np.zeros((len(held), 9))
-        ref[fibre] = X[nodes[fibre]]
-        ref[self._is_block, 0:3] = Xb[nodes[self._is_block]]
+        self._held_nodes = nodes
         self._node_local = np.zeros(len(held), dtype=np.int32)
         self._node_local[fibre] = mesh.global_to_local(nodes[fibre])
         self._node_local[self._is_block] = nodes[self._is_block]
+        rows = self._rows
+        self._multiplier = np.concatenate([[0], np.cumsum(rows)[:-1]]).astype(np.int32) \
+            if len(rows) else np.zeros(0, dtype=np.int32)
+        self._scale_position, self._scale_section = self._row_scales(model, nodes)
+        self.set = _cpp.RigidBodySet()
+        self._grab(model, mesh.X_global)
+        self._X = np.ascontiguousarray(mesh.X_local.ravel())
+        self._saddle = comm.allreduce(int(rows.sum()))
+        self._checked_dofs = None
+
+    def _grab(self, model, configuration: np.ndarray) -> None:
+        """The bodies take hold of what they hold as it is in
+        ``configuration`` ((global fibre nodes, 9) [x0, g1, g2]; block nodes
+        at their reference): their centres (unless given), the offsets and
+        section vectors they keep, with zero rotation so far. Collective."""
+        mesh, comm = model.mesh, model.comm
+        n = len(self.bodies)
+        held = self._held
+        fibre = ~self._is_block
+        X = configuration
+        Xb = self._Xb_ref
+        nodes = self._held_nodes
+        # positions of what is held: [x0, g1, g2] (block nodes: x0 only)
+        ref = np.zeros((len(held), 9))
+        ref[fibre] = X[nodes[fibre]]
+        ref[self._is_block, 0:3] = Xb[nodes[self._is_block]]
         # reference centres: the mean of what each body holds, each fibre
         # node once (geometry replicated: counted on rank 0) and each block
         # node once (by its owner)
@@ -226,19 +249,26 @@ class RigidBodies(Effect):
                 self.centres[b] = sums[b] / counts[b]
         self.rotation = np.tile(np.eye(3), (n, 1, 1))   # R_n, accumulated
         self.turned = np.zeros((n, 3))                  # accumulated rotation increments
-        rows = self._rows
-        self._multiplier = np.concatenate([[0], np.cumsum(rows)[:-1]]).astype(np.int32) \
-            if len(rows) else np.zeros(0, dtype=np.int32)
         self._ref_offset = ref[:, 0:3] - self.centres[self._body] if held else np.zeros((0, 3))
         self._ref_g1, self._ref_g2 = ref[:, 3:6], ref[:, 6:9]
-        self._scale_position, self._scale_section = self._row_scales(model, nodes)
         self._sliding_rows(ref)
-        self.set = _cpp.RigidBodySet()
         self.set.set_centres(self.centres)
         self._set_couplings()
-        self._X = np.ascontiguousarray(mesh.X_local.ravel())
-        self._saddle = comm.allreduce(int(rows.sum()))
-        self._checked_dofs = None
+
+    def load_fibres(self, model, data: dict) -> None:
+        """A new scene starts from saved fibres (:func:`textile.load_fibres`):
+        the bodies take hold of the fibres as loaded (deformed, pre-stressed),
+        at zero body displacement and rotation and zero multipliers (the
+        saved bodies, if any, belong to the old scene). The first Newton
+        iteration finds the forces that hold the loaded state."""
+        mesh = model.mesh
+        u = model._gather_beam(model.state().u["beam"])
+        self._grab(model, mesh.X_global + u)
+        arrays = [a.copy() for a in model.layout.get_local(model.x)]
+        for name in ("rigid", "rigid_multipliers"):
+            arrays[model.layout.index(name)][:] = 0.0
+        model.layout.scatter(model.x, arrays)
+        model.x.ghostUpdate()
 
     def _row_scales(self, model, nodes) -> tuple[np.ndarray, np.ndarray]:
         """Row scales s: fibres E A / h of the end element (x0 rows), times
