@@ -60,6 +60,22 @@ def _as_points(points) -> np.ndarray:
     return np.ascontiguousarray(p)
 
 
+def _unique_pieces(pvtu: str) -> None:
+    """dolfinx 0.5.2's VTKFile lists every rank's piece once per function
+    written: a reader would load the block that many times over. Keep each
+    piece once (in place, rank 0)."""
+    import xml.etree.ElementTree as ET
+
+    tree = ET.parse(pvtu)
+    grid = tree.getroot().find("PUnstructuredGrid")
+    seen = set()
+    for piece in grid.findall("Piece"):
+        if piece.get("Source") in seen:
+            grid.remove(piece)
+        seen.add(piece.get("Source"))
+    tree.write(pvtu, xml_declaration=True, encoding="utf-8")
+
+
 class ElasticBlock(Effect):
     """A tetrahedral hyperelastic solid, optionally clamped on part of its boundary.
 
@@ -188,6 +204,20 @@ class ElasticBlock(Effect):
                 f"'{self.name}' (reference centre {np.array2string(centre, precision=4)}) has "
                 f"det F = {worst[c]:.3g} <= 0; {len(bad)} inverted cell(s) on rank "
                 f"{self.mesh.comm.rank}")
+
+    def min_det_F(self) -> float:
+        """Smallest det F over every check point of every cell at the model's
+        current solution, over all ranks (collective)."""
+        if self._model is None:
+            raise RuntimeError("ElasticBlock.min_det_F: the model is not set up yet")
+        self.u.x.array[:] = self._model.state().u[self.name]
+        J = self._det_F.eval(self._owned_cells())
+        local = float(J.min()) if J.size else np.inf
+        return self.mesh.comm.allreduce(local, op=MPI.MIN)
+
+    def statistics(self) -> dict:
+        """Per converged step (results.json): the block's smallest det F."""
+        return {f"{self.name}_min_det_F": self.min_det_F()}
 
     def _boundary_nodes(self, where, what: str) -> np.ndarray:
         """Local block dofs (nodes, owned + ghost, sorted) on the boundary
@@ -449,4 +479,7 @@ class ElasticBlock(Effect):
                 f.write_function(functions, time)
         finally:
             x[:] = reference
-        return os.path.join(directory, stem + "000000.pvtu")
+        pvtu = os.path.join(directory, stem + "000000.pvtu")
+        if self.mesh.comm.rank == 0:
+            _unique_pieces(pvtu)
+        return pvtu
