@@ -26,11 +26,14 @@ class SideDisplacement(Effect):
 def block_model(comm, block, force_scale=1.0):
     """A model whose only deformable part is ``block``: the model needs a
     fibre, so a short one far away is clamped at every node (its E A sets
-    the convergence test's absolute scale: give it the block's force scale)."""
+    the convergence test's absolute scale: give it the block's force scale).
+    Four elements, so that each of two ranks owns some: a rank without beam
+    elements skips the beam's sparsity block, whose creation is collective
+    (textile.layout.SparsityBuilder.pattern), and the set-up hangs."""
     R = 0.1
     E = force_scale / (np.pi * R ** 2)
     fibre = textile.straight_fibre([100, 0, 0], [101, 0, 0], R, textile.Material(E, 0.3),
-                                   num_elements=1)
+                                   num_elements=4)
     model = textile.Model([fibre], comm=comm)
     for node in range(fibre.num_nodes):
         model.clamp(fibre, node)
