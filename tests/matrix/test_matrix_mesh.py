@@ -143,17 +143,21 @@ fibre = textile.straight_fibre([0, 0, 0], [1, 0, 0], 0.01, textile.Material(1e9,
 model = textile.Model([fibre])
 model.clamp(fibre, 0)
 model.add_force(fibre, -1, [0, 0, -1e-3])
-history = textile.Solver(model, {"verbose": False}).solve()
+output = textile.Output(sys.argv[1], pictures=False)
+history = textile.Solver(model, {"verbose": False}, output=output).solve()
 assert model.load_factor == 1.0
+import textile.matrix_mesh  # importing the matrix-mesh module does not import gmsh either
 print("gmsh" in sys.modules, len(made), "textile.effects.elastic_block" in sys.modules)
 """
 
 
-def test_fibre_only_scene_never_touches_gmsh_or_a_matrix_mesh():
-    """A fibre-only solve: gmsh not imported, no dolfinx mesh built, the
-    matrix block's module not loaded (a fresh interpreter, so nothing
-    another test imported counts)."""
-    run = subprocess.run([sys.executable, "-c", LAZY_SCRIPT], capture_output=True, text=True,
-                         cwd=ROOT, timeout=300)
+def test_fibre_only_scene_never_touches_gmsh_or_a_matrix_mesh(tmp_path):
+    """A fibre-only solve with output: gmsh not imported, no dolfinx mesh
+    built, the matrix block's module not loaded, no scene.pvd; importing
+    textile.matrix_mesh does not import gmsh either (a fresh
+    interpreter, so nothing another test imported counts)."""
+    run = subprocess.run([sys.executable, "-c", LAZY_SCRIPT, str(tmp_path)], capture_output=True,
+                         text=True, cwd=ROOT, timeout=300)
     assert run.returncode == 0, run.stderr
     assert run.stdout.split()[-3:] == ["False", "0", "False"], run.stdout
+    assert (tmp_path / "fibres.pvd").exists() and not (tmp_path / "scene.pvd").exists()
