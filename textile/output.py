@@ -8,6 +8,15 @@ appends the step's statistics to ``results.json``. Everything is gathered
 to rank 0 and written there. Files are replaced atomically, so a run that
 fails keeps every converged step.
 
+A scene with elastic matrix blocks (:class:`~textile.effects.elastic_block.
+ElasticBlock`) also gets, at the same steps, each block written by
+dolfinx's VTKFile (``<block>/<block>_<step>000000.pvtu`` with one ``.vtu``
+piece per rank; point field ``displacement``, cell fields ``J`` and
+``von_mises``; points at their current positions, like the fibres), the
+block's own index ``<block>.pvd``, and ``scene.pvd``: the one index to open
+in ParaView, listing per step the fibres (part 0, ``name="fibres"``) and
+each block (parts 1, 2, ...) as the blocks of one multiblock data set.
+
 Per-fibre labels (``fibre_data``, e.g. each fibre's yarn) go on every
 fibres .vtu as point and cell arrays. Pictures of the final state
 (``sample.png``, ``sample_top.png``, ``cut_*.png``; see
@@ -23,11 +32,45 @@ from collections.abc import Mapping
 import numpy as np
 
 from .io import PVDSeries, ResultsLog, write_fibres_vtu
+from .io.vtu import atomic_write_bytes
 
 _VOIGT = ("11", "22", "33", "23", "13", "12")
 # arrays Output writes itself: a fibre_data array may not take their names
 _RESERVED = {"fibre_id", "radius", "displacement", "g1", "g2"} | {
     f"{kind}_{c}" for kind in ("strain", "stress") for c in _VOIGT}
+
+
+class SceneSeries:
+    """ParaView collection (``.pvd``) of several parts per time step: each
+    step lists its data sets with ``part`` numbers (and ``name``
+    attributes), which ParaView shows as one multiblock data set per step.
+    Rewritten atomically after every :meth:`add`, like :class:`PVDSeries`."""
+
+    def __init__(self, path: str):
+        self.path = path
+        self._steps: list[tuple[float, list[tuple[str, str]]]] = []
+        self._write()
+
+    def add(self, time: float, parts: list[tuple[str, str]]) -> None:
+        """One step at ``time``: ``parts`` = [(name, file path)], in part order."""
+        base = os.path.dirname(os.path.abspath(self.path))
+        rel = [(name, os.path.relpath(os.path.abspath(p), base).replace(os.sep, "/"))
+               for name, p in parts]
+        self._steps.append((float(time), rel))
+        self._write()
+
+    def _write(self) -> None:
+        import xml.etree.ElementTree as ET
+        root = ET.Element("VTKFile", {"type": "Collection", "version": "0.1",
+                                      "byte_order": "LittleEndian"})
+        collection = ET.SubElement(root, "Collection")
+        for t, parts in self._steps:
+            for k, (name, rel) in enumerate(parts):
+                ET.SubElement(collection, "DataSet", {"timestep": repr(t), "group": "",
+                                                      "part": str(k), "name": name,
+                                                      "file": rel})
+        ET.indent(root)
+        atomic_write_bytes(self.path, ET.tostring(root, encoding="utf-8", xml_declaration=True))
 
 
 class Output:
@@ -78,6 +121,8 @@ class Output:
                                  f"each of its yarns (missing: {sorted(missing)})")
         self._pvd = None
         self._contact_pvd = None
+        self._scene_pvd = None
+        self._block_pvds = {}
         self._log = None
         self._last = None         # (step, centre lines, radii) of the last state, rank 0
         self._drawn_step = None   # the step the "last" pictures show
@@ -141,6 +186,7 @@ class Output:
         q = model.nodal_unknowns() if write_vtu or self.pictures else None
         fields = self._segment_fields(model) if write_vtu else None
         contacts = self._contact_elements(model) if write_vtu else None
+        blocks = self._write_blocks(model, record) if write_vtu else []
         if model.comm.rank != 0:
             return
         if contacts is not None and len(contacts["gap"]):
@@ -159,6 +205,7 @@ class Output:
             path = os.path.join(self.directory, name)
             write_fibres_vtu(path, lines, point_data=point_data, cell_data=fields)
             self._pvd.add(record.time, path)
+            self._index_blocks(record, path, blocks)
         self._log.append(dict(step=record.step, stage=record.stage, time=record.time,
                               load_factor=record.load_factor,
                               newton_iterations=record.newton_iterations,
@@ -176,6 +223,37 @@ class Output:
         elif self.pictures == "last" and record.load_factor >= 1.0 - 1e-12 \
                 and not self.hold_pictures:
             self._draw()
+
+    @staticmethod
+    def _blocks(model) -> list:
+        """The scene's matrix blocks (effects that write themselves with
+        dolfinx; found by their write_vtk method, so that a scene without a
+        matrix imports nothing of the matrix side)."""
+        return [e for e in model.effects if hasattr(e, "write_vtk")]
+
+    def _write_blocks(self, model, record) -> list[tuple[str, str]]:
+        """Write every block of the step (collective); [(name, .pvtu path)]."""
+        out = []
+        for block in self._blocks(model):
+            sub = os.path.join(self.directory, block.name)
+            if model.comm.rank == 0:
+                os.makedirs(sub, exist_ok=True)
+            model.comm.barrier()
+            out.append((block.name, block.write_vtk(sub, f"{block.name}_{record.step:05d}",
+                                                     record.time)))
+        return out
+
+    def _index_blocks(self, record, fibres_path: str, blocks: list) -> None:
+        """Rank 0: each block's own series and the combined scene.pvd."""
+        if not blocks:
+            return
+        for name, path in blocks:
+            if name not in self._block_pvds:
+                self._block_pvds[name] = PVDSeries(os.path.join(self.directory, f"{name}.pvd"))
+            self._block_pvds[name].add(record.time, path)
+        if self._scene_pvd is None:
+            self._scene_pvd = SceneSeries(os.path.join(self.directory, "scene.pvd"))
+        self._scene_pvd.add(record.time, [("fibres", fibres_path)] + blocks)
 
     def _contact_elements(self, model) -> dict | None:
         """All ranks' contact elements gathered on rank 0 (None without contact)."""
