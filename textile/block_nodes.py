@@ -4,8 +4,8 @@
 :class:`~textile.effects.elastic_block.ElasticBlock` by a marker over their
 reference coordinates (like dolfinx's ``locate_*`` functions) or by local node
 indices; :func:`select_block_nodes` turns that into the local nodes of this
-rank. The selection is a function of its own so that it can later take a
-named side (a gmsh physical group) as well.
+rank; a named side (a gmsh physical group) selects the nodes of its
+facets.
 """
 from __future__ import annotations
 
@@ -21,7 +21,9 @@ class BlockNodes:
         The :class:`~textile.effects.elastic_block.ElasticBlock` (add it to
         the model too).
     where:
-        A marker ``x -> bool array`` with x of shape (3, n), the reference
+        A side name of the block's mesh ("xmin" ... "zmax" for
+        :func:`textile.matrix_mesh.gmsh_box`) or a list of them; a marker
+        ``x -> bool array`` with x of shape (3, n), the reference
         coordinates of the block's local nodes; or an array of local node
         indices of this rank (owned and ghost numbering of
         ``block.node_coordinates()``).
@@ -33,21 +35,30 @@ class BlockNodes:
         if not isinstance(block, ElasticBlock):
             raise TypeError(f"BlockNodes: block must be an ElasticBlock, got "
                             f"{type(block).__name__}")
-        if not callable(where):
+        if not callable(where) and not _is_side(where):
             idx = np.asarray(where)
             if idx.ndim != 1 or (len(idx) and idx.dtype.kind not in "iu"):
-                raise ValueError("BlockNodes: where must be a marker x -> bool array or a 1D "
-                                 "array of local node indices")
+                raise ValueError("BlockNodes: where must be a side name (or a list of them), "
+                                 "a marker x -> bool array or a 1D array of local node indices")
         self.block, self.where = block, where
 
     def __repr__(self) -> str:
         return f"BlockNodes({self.block.name!r})"
 
 
+def _is_side(where) -> bool:
+    """A side name of the block's mesh ("xmax") or a list of them."""
+    return isinstance(where, str) or (isinstance(where, (list, tuple)) and len(where) > 0
+                                      and all(isinstance(w, str) for w in where))
+
+
 def select_block_nodes(block, where) -> np.ndarray:
     """Local node indices (owned and ghost numbering, sorted, unique) of the
-    block's nodes selected by ``where`` (a marker over reference coordinates
-    x of shape (3, n), or local node indices). Not collective."""
+    block's nodes selected by ``where``: a side name of its mesh (a gmsh
+    physical group, e.g. "xmax") or a list of them, a marker over reference
+    coordinates x of shape (3, n), or local node indices. Not collective."""
+    if _is_side(where):
+        return np.asarray(block.side_nodes(where)[0], dtype=np.int32)
     X = block.node_coordinates()
     if callable(where):
         marked = np.asarray(where(np.ascontiguousarray(X.T)), dtype=bool)
