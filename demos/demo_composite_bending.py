@@ -22,7 +22,8 @@ Then a matrix is added around it (METHOD.md sections 6-7):
 
 The composite is then bent by opposite rotations of the two side bodies
 about y (each turns by half the bending angle; ``xmax`` is free to move
-along x, so the sample is not stretched). Fibres, contacts, junctions and
+along x, so the sample is not stretched), after a first stage in which
+the forces that held the weft yarns' ends during weaving are let go. Fibres, contacts, junctions and
 matrix are one system, solved by one PETSc SNES (MUMPS), also under
 ``mpirun -n 2``.
 
@@ -93,30 +94,39 @@ size = None if args.size is None else args.size * R
 composite = Composite(fabric, woven, matrix_material, size=size, sides=("xmin", "xmax"),
                       comm=comm)
 left, right = composite.sides["xmin"], composite.sides["xmax"]
-half = math.radians(args.angle) / 2
 left.fix(("x", "y", "z", "rx", "rz"))
-left.prescribe("ry", -half)
 right.fix(("y", "z", "rx", "rz"))       # x free: the sample is not stretched
-right.prescribe("ry", half)
+left_turn = left.prescribe("ry", 0.0)
+right_turn = right.prescribe("ry", 0.0)
+half = math.radians(args.angle) / 2
+stages = [
+    # the weaving run's yarn-end bodies let go: the matrix takes the yarns' pre-stress
+    composite.release_stage(steps=2),
+    textile.Stage("bending", ramp={left_turn: -half, right_turn: half},
+                  solver=dict(initial_step=1.0 / args.steps, max_step=1.0 / args.steps)),
+]
 if comm.rank == 0:
     stats = composite.junctions.statistics()
     print(f"matrix box {composite.corners[0]} .. {composite.corners[1]}; "
           f"{stats['junctions']} junctions ({stats['junctions_outside']} particles outside)")
 
 # 3. Bend, step by step; the moment on the xmax body against the angle.
-angles, moments = [0.0], [0.0]
+angles, moments = [], []
 
 
 def record(solver, rec):
-    angles.append(math.degrees(2 * half * rec.load_factor))
-    moments.append(float(composite.side_reaction("xmax")[4]))
+    if rec.stage == "bending":
+        angles.append(math.degrees(2 * half * rec.load_factor))
+        moments.append(float(composite.side_reaction("xmax")[4]))
+    elif rec.load_factor == 1.0:   # released: the curve starts here
+        angles.append(0.0)
+        moments.append(float(composite.side_reaction("xmax")[4]))
 
 
 output = composite.output(args.output)
-solver = textile.Solver(composite.model, dict(initial_step=1.0 / args.steps,
-                                              max_step=1.0 / args.steps, verbose=comm.rank == 0),
-                        output=output, on_step=record)
-solver.solve()
+solver = textile.Solver(composite.model, dict(verbose=comm.rank == 0), output=output,
+                        on_step=record)
+solver.run(stages)
 
 if comm.rank == 0:
     with open(os.path.join(args.output, "moment_rotation.csv"), "w", newline="") as f:

@@ -42,6 +42,7 @@ from .effects.fibre_matrix_junction import FibreMatrixJunctions
 from .fabric import Fabric
 from .io import fabric_labels
 from .io.state_file import load_fibres, saved_configuration
+from .loading import Stage
 from .material import Material
 from .matrix_mesh import gmsh_box
 from .model import Model
@@ -136,8 +137,7 @@ class Composite:
         if configuration.shape != mesh.X_global.shape:
             raise ValueError(f"Composite: the woven state has {len(configuration)} fibre nodes, "
                              f"this fabric {len(mesh.X_global)}: give the weaving run's fabric")
-        node_radius = np.repeat([f.radius for f in fibres], np.diff(np.r_[mesh.first_node,
-                                                                          len(mesh.X_global)]))
+        node_radius = np.repeat([f.radius for f in fibres], [f.num_nodes for f in fibres])
         self.corners = woven_box(configuration, node_radius, overlap)
         self.matrix_mesh = gmsh_box(comm, *self.corners, size)
         self.contact = None
@@ -152,16 +152,58 @@ class Composite:
                                               positions=configuration)
         self.model.add_effect(self.junctions)
         self.sides: dict[str, RigidBody] = {}
+        held = set()
         for side in sides:
-            direction, end = SIDES[side]
-            yarns = [k for k in range(fabric.num_yarns) if fabric.yarn_direction(k) == direction]
-            ends = [(int(f), end) for f in np.flatnonzero(np.isin(fabric.fibre_yarn, yarns))]
+            ends = self._yarn_ends(side)
             body = RigidBody(side, sections=ends, block_nodes=BlockNodes(self.block, side))
             self.model.add_rigid_body(body)
             self.sides[side] = body
+            held.update(ends)
+        # the yarn ends no body holds: what held them in the weaving run
+        # (its yarn-end bodies) is replaced by a force, released over the
+        # first stage (release_stage)
+        self._free_ends = [e for side in SIDES for e in self._yarn_ends(side) if e not in held]
+        self._release = [self.model.add_force(f, k, np.zeros(9), dofs="all")
+                         for f, k in self._free_ends] if woven is not None else []
         self.model.setup()
         if woven is not None:
             load_fibres(self.model, woven)
+            self._hold_free_ends()
+
+    def _yarn_ends(self, side: str) -> list[tuple[int, int]]:
+        """(fibre, node) of the yarn ends on ``side``."""
+        direction, end = SIDES[side]
+        fabric = self.fabric
+        yarns = [k for k in range(fabric.num_yarns) if fabric.yarn_direction(k) == direction]
+        return [(int(f), end) for f in np.flatnonzero(np.isin(fabric.fibre_yarn, yarns))]
+
+    def _hold_free_ends(self) -> None:
+        """Set the release forces to the generalized forces (9 a node) the
+        loaded state is out of balance by at the free yarn ends, so that it
+        starts in equilibrium (collective)."""
+        model, mesh = self.model, self.model.mesh
+        b = model.x.duplicate()
+        model.residual(None, model.x, b)
+        r = b.getArray(readonly=True)
+        imbalance = np.zeros((len(self._free_ends), 9))
+        local = mesh.global_to_local([mesh.node(f, k) for f, k in self._free_ends])
+        mine = np.flatnonzero((local >= 0) & (local < mesh.num_owned))
+        if len(mine):
+            rows = model.layout.offset("beam") + 9 * local[mine][:, None] + np.arange(9)
+            imbalance[mine] = r[model._owned_position(rows.ravel())].reshape(-1, 9)
+        imbalance = model.comm.allreduce(imbalance)
+        b.destroy()
+        for h, f in zip(self._release, imbalance):
+            h.schedule.start[h.index] = f
+            h.schedule.target[h.index] = f
+
+    def release_stage(self, steps: int = 2) -> Stage:
+        """The first stage: the forces that stand for the weaving run's
+        yarn-end bodies at the ends no side body holds go to zero (the
+        fabric is let go, its matrix takes the yarns' pre-stress); the side
+        bodies hold their components at zero."""
+        return Stage("release", ramp={h: 0.0 for h in self._release},
+                     solver=dict(initial_step=1.0 / steps, max_step=1.0 / steps))
 
     def output(self, directory: str, **options) -> Output:
         """An :class:`~textile.output.Output` writing fibres (with their yarn)
