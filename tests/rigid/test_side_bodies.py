@@ -51,17 +51,19 @@ def largest_junction_force(model, junction):
     return model.comm.allreduce(float(np.abs(b["beam"]).max(initial=0.0)), op=MPI.MAX)
 
 
-def exact_force(stretch):
+def exact_force(stretch, e_m=E_M):
     """Uniaxial St Venant-Kirchhoff force of block and fibres (first Piola)."""
-    return (E_M * A_B + len(FIBRES_YZ) * E_F * A_F) * stretch * (stretch ** 2 - 1) / 2
+    return (e_m * A_B + len(FIBRES_YZ) * E_F * A_F) * stretch * (stretch ** 2 - 1) / 2
 
 
-def composite(comm, fibre_elements, drive, nested=False):
+def composite(comm, fibre_elements, drive, nested=False, e_m=E_M, right_face=True):
     """The sample, pulled by ``drive``: "displacement" (the right side moves
     by (STRETCH - 1) L) or a force (N) on the right side. ``nested``: each
     side body gathers two yarn-end bodies of two fibres each instead of the
-    four end sections."""
-    block = ElasticBlock(box_mesh(comm, [0, 0, 0], [L, W, H], CELLS), E_M, NU, law="svk")
+    four end sections. ``e_m``: the matrix's Young's modulus.
+    ``right_face=False``: the right body holds the fibre ends only (the load
+    enters the matrix through the junctions)."""
+    block = ElasticBlock(box_mesh(comm, [0, 0, 0], [L, W, H], CELLS), e_m, NU, law="svk")
     mat = textile.Material(E_F, NU)
     fibres = [textile.straight_fibre([0, y, z], [L, y, z], R, mat, num_elements=fibre_elements,
                                      section_vector=[0, 1, 0]) for y, z in FIBRES_YZ]
@@ -70,7 +72,8 @@ def composite(comm, fibre_elements, drive, nested=False):
     junction = couple_fibres_to_matrix(model, block, fibres)
 
     def side(name, end, x):
-        face = BlockNodes(block, lambda p: np.isclose(p[0], x))
+        face = BlockNodes(block, lambda p: np.isclose(p[0], x)) if right_face or x == 0.0 \
+            else ()
         ends = [(f, end) for f in fibres]
         if nested:
             yarns = [textile.RigidBody(f"{name} yarn {k}", sections=ends[2 * k:2 * k + 2])
