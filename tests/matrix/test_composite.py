@@ -1,0 +1,124 @@
+"""The composite workflow: a woven fabric saved, embedded in a matrix, let go
+and bent (textile.composite.Composite).
+
+A 2 x 2 plain weave of monofilaments (6 yarn widths apart: it weaves in a
+fraction of a second) is woven and saved; the composite is built around the
+saved state (gmsh box, junctions in the woven configuration, side bodies on
+xmin and xmax), its free yarn ends are let go, and it is bent by opposite
+rotations of the two side bodies.
+"""
+import math
+
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+import textile
+from textile.composite import Composite
+from textile.fabric import Fabric
+from textile.fabric_measures import crossing_separation
+from textile.weaving import Weaving
+from textile.yarn import Yarn
+
+R = 0.1e-3
+FIBRE = textile.Material(5.0e9, 0.35)
+MATRIX = textile.Material(3.0e9, 0.35)
+ANGLE = math.radians(6.0)   # bending angle, both sides together
+QUIET = dict(verbose=False)
+
+
+def fabric():
+    yarn = Yarn(1, R, FIBRE)
+    return Fabric(yarn, num_warp=2, num_weft=2, spacing=6 * yarn.width, pattern="plain",
+                  elements_per_crossing=4)
+
+
+@pytest.fixture(scope="module")
+def woven(tmp_path_factory):
+    """The woven state, saved (woven on this rank alone)."""
+    path = str(tmp_path_factory.mktemp("woven") / "woven.h5")
+    weaving = Weaving(fabric(), comm=MPI.COMM_SELF)
+    weaving.run(solver_options=QUIET)
+    textile.save_state(weaving.model, path)
+    return path
+
+
+def bend(woven, comm, steps=3):
+    """Release then bend; returns (composite, solver, angles, moments, forces)."""
+    c = Composite(fabric(), woven, MATRIX, comm=comm)
+    left, right = c.sides["xmin"], c.sides["xmax"]
+    left.fix(("x", "y", "z", "rx", "rz"))
+    right.fix(("y", "z", "rx", "rz"))
+    turns = (left.prescribe("ry", 0.0), right.prescribe("ry", 0.0))
+    curve = []
+
+    def record(solver, rec):
+        if rec.stage == "bending":
+            curve.append((rec.load_factor * ANGLE, c.side_reaction("xmin"),
+                          c.side_reaction("xmax")))
+
+    solver = textile.Solver(c.model, QUIET, on_step=record)
+    solver.run([c.release_stage(2),
+                textile.Stage("bending", ramp={turns[0]: -ANGLE / 2, turns[1]: ANGLE / 2},
+                              solver=dict(initial_step=1.0 / steps, max_step=1.0 / steps))])
+    return c, solver, curve
+
+
+def test_built_in_the_woven_configuration(woven):
+    """The matrix is stress-free and the junctions closed in the woven
+    state the composite starts from; the fibres keep their woven shape."""
+    c = Composite(fabric(), woven, MATRIX, comm=MPI.COMM_SELF)
+    st = c.model.state()
+    assert np.all(st.u["matrix"] == 0.0)
+    # junctions made where the loaded fibres are: round-off gaps only
+    # (measured 0 to 1e-19 m)
+    assert np.abs(c.junctions.gaps()).max() < 1e-15
+    assert c.junctions.statistics()["junctions_outside"] == 0
+    saved = textile.saved_configuration(woven)
+    x = c.model.mesh.X_global + c.model._gather_beam(st.u["beam"])
+    assert np.abs(x - saved).max() < 1e-15
+    # every crossing still in pattern order
+    assert np.all(crossing_separation(c.fabric, c.model) > 0)
+
+
+def test_release_and_bending(woven):
+    c, solver, curve = bend(woven, MPI.COMM_SELF)
+    assert [h.stage for h in solver.history] == ["release"] * 2 + ["bending"] * 3
+    assert np.all(np.isfinite(c.model.x.getArray(readonly=True)))
+    # the fabric keeps its crossing order inside the matrix
+    assert np.all(crossing_separation(c.fabric, c.model) > 0)
+    angles = np.array([a for a, _, _ in curve])
+    moments = np.array([r[4] for _, _, r in curve])
+    # the bending moment grows with the angle (small range: nearly linear)
+    assert np.all(np.diff(moments) > 0) and moments[0] > 0
+    slope = moments / angles
+    assert slope.max() / slope.min() < 1.1
+    # the two side bodies hold each other's force: nothing else loads the
+    # sample once the free ends are let go (measured 1e-13 of the force)
+    for _, left, right in curve:
+        assert np.abs(left[0:3] + right[0:3]).max() < 1e-8 * np.abs(right[0:3]).max()
+
+
+@pytest.mark.mpi
+def test_parallel_equals_serial(woven_mpi):
+    """The same moments and forces on all ranks as on one (1e-8)."""
+    _, _, serial = bend(woven_mpi, MPI.COMM_SELF, steps=2)
+    _, _, parallel = bend(woven_mpi, MPI.COMM_WORLD, steps=2)
+    for (a1, l1, r1), (a2, l2, r2) in zip(serial, parallel):
+        assert a1 == a2
+        assert np.abs(r1 - r2).max() < 1e-8 * np.abs(r1).max()
+        assert np.abs(l1 - l2).max() < 1e-8 * np.abs(l1).max()
+
+
+@pytest.fixture(scope="module")
+def woven_mpi(tmp_path_factory):
+    """The woven state written once (rank 0) and read by every rank."""
+    comm = MPI.COMM_WORLD
+    path = str(tmp_path_factory.mktemp("woven") / "woven.h5") if comm.rank == 0 else None
+    path = comm.bcast(path, root=0)
+    if comm.rank == 0:
+        weaving = Weaving(fabric(), comm=MPI.COMM_SELF)
+        weaving.run(solver_options=QUIET)
+        textile.save_state(weaving.model, path)
+    comm.Barrier()
+    return path
