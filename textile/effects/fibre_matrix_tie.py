@@ -65,6 +65,7 @@ class FibreMatrixTie(FibreMatrixJunctions):
         local = np.argmax(hit[elem, :, np.arange(len(g))], axis=1)
         xi = -1.0 + 2.0 * local / mesh.order
         self.particles_per_element = 0
+        self.section_particles, self.particles_per_station = False, 1
         self._make(model, block, float(stiffness), elem, xi, np.ones(len(g)),
                    mesh.X_global[g, 0:3])
         if self.num_outside:
