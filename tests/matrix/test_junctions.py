@@ -287,7 +287,17 @@ def test_junctions_made_in_a_given_configuration():
     d = np.zeros_like(X)
     d[:, 0] = 0.05 * (X[:, 0] - 1.0)                        # 5% stretch about x = 1
     d[:, 2] = 0.1 * np.sin(np.pi * (X[:, 0] - 0.2) / 1.6)   # crimp
+    # sections turned about x by up to 0.3 rad along the fibre: the section
+    # particles are made with the given section vectors
+    t = 0.3 * (X[:, 0] - 0.2) / 1.6
+    for j in (3, 6):
+        g = X[:, j:j + 3]
+        turned = np.column_stack([g[:, 0], np.cos(t) * g[:, 1] - np.sin(t) * g[:, 2],
+                                  np.sin(t) * g[:, 1] + np.cos(t) * g[:, 2]])
+        d[:, j:j + 3] = turned - g
     model.add_effect(block)
+    with pytest.raises(ValueError, match="positions"):   # section vectors needed
+        FibreMatrixJunctions(model, block, positions=(X + d)[:, 0:3])
     junctions = FibreMatrixJunctions(model, block, positions=X + d)
     model.add_effect(junctions)
     model.setup()
@@ -295,6 +305,9 @@ def test_junctions_made_in_a_given_configuration():
     arrays[model.layout.index("beam")][:] = d[model.mesh.local_to_global].ravel()
     model.layout.scatter(model.x, arrays)
     assert np.abs(junctions.gaps()).max() < 1e-14
+    # (and the section particles are off the reference sections' places)
+    c = junctions.section_coordinates()
+    assert np.abs(c).max() > 0.03
     st = model.state()
     b = {n: np.zeros(len(a)) for n, a in st.u.items()}
     junctions.residual(st, b)
