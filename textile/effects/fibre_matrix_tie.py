@@ -2,7 +2,8 @@
 
 A thin case of :class:`~textile.effects.fibre_matrix_junction.FibreMatrixJunctions`:
 each tie is a junction whose particle is the node itself (the element
-coordinate of the node in one of its elements), with weight w = 1 and the
+coordinate of the node in one of its elements; its centroid only, no section
+particles: the node's section vectors are not tied), with weight w = 1 and the
 stiffness k in N/m per tie (not per unit length), energy 1/2 k |gap|^2,
 gap = x_node - x_m. Prefer the junctions along the fibre, whose stiffness
 per unit length does not depend on the node spacing.
