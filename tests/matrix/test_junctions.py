@@ -51,6 +51,16 @@ def test_tangent_matches_finite_differences(order, section):
     c = np.linalg.norm(junctions.section_coordinates(), axis=1)
     assert np.allclose(np.unique(np.round(c, 12)),
                        [0.0, np.sqrt(5 / 8) * 0.05] if section else [0.0], atol=1e-14)
+    if section:
+        # some stations' particles lie in different matrix cells (each
+        # particle gets its own cell and basis), and the particles sharing
+        # (element, cell) share a tangent block
+        station = np.column_stack([junctions._elem_global, junctions._xi])
+        _, inv = np.unique(station, axis=0, return_inverse=True)
+        cells_per_station = [len(np.unique(junctions._cells[inv.ravel() == i]))
+                             for i in range(inv.max() + 1)]
+        assert max(cells_per_station) > 1
+        assert junctions._set.num_blocks < junctions._set.size
     assert stats["junction_off_rank_fraction"] == 0.0   # one rank
 
     rng = np.random.default_rng(3)

@@ -296,7 +296,9 @@ class FibreMatrixJunctions(Effect):
         m = self.block.name
         if not len(self._local):
             return
-        # one block per distinct (fibre element, matrix cell) pair
+        # one block per distinct (fibre element, matrix cell) pair; the
+        # beam field's blocks are whole nodes (9 unknowns: x0, g1, g2), so
+        # the section particles' couplings of g1, g2 are in the pattern too
         key = np.column_stack([self._local, self._cell_nodes])
         for row in np.unique(key, axis=0):
             nodes, dofs = row[: self._local.shape[1]], row[self._local.shape[1]:]
