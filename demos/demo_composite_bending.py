@@ -13,9 +13,11 @@ Then a matrix is added around it (METHOD.md sections 6-7):
    dolfinx assembles its finite-strain neo-Hookean elasticity. The matrix
    is stress-free in the woven configuration; the fibres keep their crimp
    and the stresses weaving left in them;
-2. **junctions**: at every Gauss point of every fibre element a fibre
-   particle is tied to the matrix point where it sits, with a penalty of
-   the order of the matrix's Young's modulus per unit fibre length;
+2. **junctions**: at every Gauss point of every fibre element five fibre
+   particles (the centroid and four points of the section, so the sections
+   cannot turn freely about the fibre axis) are tied to the matrix points
+   where they sit, with a penalty of the order of the matrix's Young's
+   modulus per unit fibre length;
 3. **side rigid bodies**: the body of side ``xmin`` gathers the warp yarns'
    start sections and the matrix nodes of that face; the body of ``xmax``
    their end sections and that face's nodes.

@@ -44,36 +44,40 @@ void declare_junction(py::module_& m)
       "fibre_matrix_junction",
       [](double k, double w, int num_fibre_nodes, double xi, const carray<double>& X_f,
          const carray<double>& u_f, const carray<double>& X_m, const carray<double>& phi,
-         const carray<double>& u_m)
+         const carray<double>& u_m, double c1, double c2)
       {
-        const std::size_t n = 3 * (num_fibre_nodes + phi.size());
+        const std::size_t n = 9 * num_fibre_nodes + 3 * phi.size();
+        const double c[2] = {c1, c2};
         carray<double> gap(3), r(n), K({n, n});
         std::fill_n(r.mutable_data(), n, 0.0);
         std::fill_n(K.mutable_data(), n * n, 0.0);
         const double e = junction::fibre_matrix_junction(
-            k, w, num_fibre_nodes, xi, cspan(X_f), cspan(u_f), cspan(X_m), cspan(phi), cspan(u_m),
+            k, w, num_fibre_nodes, xi, std::span<const double>(c, 2), cspan(X_f), cspan(u_f), cspan(X_m), cspan(phi), cspan(u_m),
             std::span<double>(gap.mutable_data(), 3), std::span<double>(r.mutable_data(), n),
             std::span<double>(K.mutable_data(), n * n));
         return py::make_tuple(e, gap, r, K);
       },
       py::arg("k"), py::arg("w"), py::arg("num_fibre_nodes"), py::arg("xi"), py::arg("X_f"),
-      py::arg("u_f"), py::arg("X_m"), py::arg("phi"), py::arg("u_m"),
-      "One junction: (energy, gap, residual, tangent); residual order [fibre nodes, matrix "
-      "nodes], 3 each");
+      py::arg("u_f"), py::arg("X_m"), py::arg("phi"), py::arg("u_m"), py::arg("c1") = 0.0,
+      py::arg("c2") = 0.0,
+      "One junction of the particle at section coordinates (c1, c2): (energy, gap, residual, "
+      "tangent); X_f, u_f 9 per fibre node (x0, g1, g2); residual order [fibre nodes (9 "
+      "each), matrix nodes (3 each)]");
 
   py::class_<junction::JunctionSet>(m, "JunctionSet")
       .def(py::init(
                [](double k, int nf, const carray<std::int32_t>& elem, const carray<double>& xi,
-                  const carray<double>& w, const carray<double>& Xf, const carray<double>& Xm,
+                  const carray<double>& section, const carray<double>& w, const carray<double>& Xf, const carray<double>& Xm,
                   const carray<std::int32_t>& cells, const carray<double>& phi)
                {
-                 return junction::JunctionSet(k, nf, vec(elem), vec(xi), vec(w), vec(Xf),
+                 return junction::JunctionSet(k, nf, vec(elem), vec(xi), vec(section), vec(w), vec(Xf),
                                               vec(Xm), vec(cells), vec(phi));
                }),
            py::arg("k"), py::arg("num_fibre_nodes"), py::arg("element_nodes"), py::arg("xi"),
-           py::arg("weight"), py::arg("X_fibre"), py::arg("X_matrix"), py::arg("cell_nodes"),
+           py::arg("section"), py::arg("weight"), py::arg("X_fibre"), py::arg("X_matrix"), py::arg("cell_nodes"),
            py::arg("phi"))
       .def_property_readonly("size", &junction::JunctionSet::size)
+      .def_property_readonly("num_blocks", &junction::JunctionSet::num_blocks)
       .def_property_readonly("num_cell_nodes", &junction::JunctionSet::num_cell_nodes)
       .def_property_readonly("stiffness", &junction::JunctionSet::stiffness)
       .def(

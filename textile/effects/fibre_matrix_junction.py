@@ -1,36 +1,64 @@
 """Fibre-matrix junction elements: fibre material particles tied to the matrix.
 
-Each junction pairs a *material particle* of a fibre element (a point of the
-centre line at the element coordinate xi) with the material point of an
+Each junction pairs a *material particle* of a fibre element -- a point of
+its section at section coordinates (c1, c2) and element coordinate xi --
+with the material point of an
 :class:`~textile.effects.elastic_block.ElasticBlock` at the same place
-(METHOD.md section 6), and stores the penalty energy
+(METHOD.md sections 1 and 6), and stores the penalty energy
 
     E_j = 1/2 k w_j |x_f - x_m|^2,
-    x_f = sum_a N_a(xi) (X_a + u_a)   (fibre centre-line point),
+    x_f = sum_a N_a(xi) (x0_a + c1 g1_a + c2 g2_a)   (fibre particle),
     x_m = X_m + sum_b phi_b u_b       (matrix point, phi the matrix cell's basis),
 
-so the coupling is a penalty *per unit fibre length*:
+linear in the fibre nodes' 9 unknowns (x0, g1, g2), so the energy is
+quadratic and the tangent constant.
+
+Stations and particles. The junction *stations* of an element are the
+points of a Gauss-Legendre rule on [-1, 1] (by default the beam element's
+own axial Gauss points). At each station the particles are
+
+* with ``section_particles=True`` (default): the centroid (0, 0) and the
+  four section points (+-rho, 0), (0, +-rho), rho = SECTION_FRACTION * r
+  (r the fibre radius, SECTION_FRACTION = sqrt(5/8) = 0.79), each with a
+  fifth of the station's weight. This 5-point rule integrates every
+  polynomial of degree <= 3 over the disk exactly (mean of c1^2 over the
+  disk r^2/4 = 2/5 rho^2), so the junctions integrate the penalty
+  k/(pi r^2) |x_f - x_m|^2 over the section as well as along the fibre
+  for gaps up to quadratic in (c1, c2). The section particles tie the
+  section vectors to the matrix: an embedded fibre cannot turn about its
+  own axis at zero energy (torsional penalty k rho^2 (4/5) theta^2 / 2 =
+  k r^2 theta^2 / 4 per unit length, the disk's value).
+* with ``section_particles=False``: the centroid only (the centre line),
+  with the whole station weight; the sections then turn freely about the
+  fibre axis unless something else holds them.
+
+Weighting, per unit fibre length:
 
 * k is the stiffness per unit fibre length (N/m^2). Default: the block's
   Young's modulus, k = STIFFNESS_FACTOR * E_m with STIFFNESS_FACTOR = 1.
-* w_j is the fibre length the particle stands for: the particles of an
-  element are the points of a Gauss-Legendre rule on [-1, 1] (by default the
-  beam element's own axial Gauss points), and w_j = (Gauss weight) x
-  |dx_f/dxi| in the configuration where the junctions are made. The
-  junctions thus integrate 1/2 k |x_f - x_m|^2 along the fibre: their total
-  stiffness does not depend on how many particles an element has nor on the
-  element or matrix mesh sizes.
+* the station's weight is (Gauss weight) x |dx0/dxi| in the configuration
+  where the junctions are made, the fibre length it stands for; it is split
+  over the station's particles (weights adding up to it). The junctions thus
+  integrate 1/2 k |x_f - x_m|^2 along the fibre (averaged over the section):
+  a gap uniform over the section (a translation) sees exactly k per unit
+  length with or without section particles, and the total stiffness does
+  not depend on how many stations an element has nor on the element or
+  matrix mesh sizes.
 
 Junctions are made in the fibres' configuration at creation (``positions``,
 default the reference geometry), so a woven, pre-stressed fibre state can
 be embedded in an unstressed matrix: X_m is the particle's position then,
-searched in the matrix's reference mesh (bounding-box tree of dolfinx's
-geometry module, then :meth:`ElasticBlock.point_basis`). Particles outside
-the matrix mesh get no junction (counted in :meth:`statistics`).
+x0 + c1 g1 + c2 g2 with the station's interpolated centroid and section
+vectors, searched in the matrix's reference mesh (bounding-box tree of
+dolfinx's geometry module, then :meth:`ElasticBlock.point_basis`): the
+particles of one station may lie in different cells (and be assembled on
+different ranks). Particles outside the matrix mesh get no junction
+(counted in :meth:`statistics`).
 
-The energy is quadratic: residual k w gap (distributed by N_a and -phi_b),
-constant symmetric tangent. All junctions are assembled together in C++
-(``_cpp.JunctionSet``, ``cpp/textile/junction/``).
+The residual is k w gap distributed by N_a (1, c1, c2) on (x0, g1, g2) and
+by -phi_b on the matrix. All junctions are assembled together in C++
+(``_cpp.JunctionSet``, ``cpp/textile/junction/``), one tangent block per
+distinct (fibre element, matrix cell) pair.
 
 Parallel: a junction is assembled by the one rank owning the matrix cell
 containing its point (point_basis's rule: the lowest rank for a point on a
@@ -54,6 +82,19 @@ from .elastic_block import ElasticBlock
 
 #: default stiffness per unit fibre length = STIFFNESS_FACTOR * E_m (N/m^2)
 STIFFNESS_FACTOR = 1.0
+
+#: section particles at (+-rho, 0), (0, +-rho), rho = SECTION_FRACTION * radius;
+#: with the centroid and equal weights a disk rule exact to degree 3
+SECTION_FRACTION = float(np.sqrt(5.0 / 8.0))
+
+
+def section_rule(radius: float) -> tuple[np.ndarray, np.ndarray]:
+    """The section particles of a station of a fibre of this radius:
+    coordinates (5, 2) (centroid, (+-rho, 0), (0, +-rho)) and weights (5,)
+    (fractions of the station's weight, 1/5 each, adding up to 1)."""
+    rho = SECTION_FRACTION * radius
+    c = np.array([[0.0, 0.0], [rho, 0.0], [-rho, 0.0], [0.0, rho], [0.0, -rho]])
+    return c, np.full(5, 0.2)
 
 
 def _shape(order: int, xi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -104,16 +145,19 @@ class FibreMatrixJunctions(Effect):
         Penalty stiffness per unit fibre length k (N/m^2); default
         ``STIFFNESS_FACTOR * block.young`` (factor 1).
     positions:
-        Optional (global nodes, 3 or more) current nodal unknowns of the
-        fibres (the first 3 columns are positions, e.g.
-        ``other_model.nodal_unknowns()``) in which the junctions are made;
-        default the fibres' reference geometry.
+        Optional (global nodes, 9) current nodal unknowns of the fibres
+        (x0, g1, g2, e.g. ``other_model.nodal_unknowns()``) in which the
+        junctions are made; default the fibres' reference geometry. With
+        ``section_particles=False`` 3 columns (positions) suffice.
+    section_particles:
+        True (default): tie the centroid and four section particles of each
+        station (module docstring); False: the centre line only.
     """
 
     symmetric_tangent = True  # a quadratic penalty potential
 
     def __init__(self, model, block: ElasticBlock, fibres=None, particles_per_element=None,
-                 stiffness=None, positions=None):
+                 stiffness=None, positions=None, section_particles=True):
         if not isinstance(block, ElasticBlock):
             raise TypeError(f"block must be an ElasticBlock, got {type(block).__name__}")
         if stiffness is None:
@@ -134,31 +178,60 @@ class FibreMatrixJunctions(Effect):
             selected = np.arange(len(mesh.fibres))
         else:
             selected = np.unique([mesh.fibre_index(f) for f in fibres])
+        if not isinstance(section_particles, (bool, np.bool_)):
+            raise ValueError(f"FibreMatrixJunctions: section_particles must be True or False, "
+                             f"got {section_particles!r}")
+        section_particles = bool(section_particles)
+        ncol = 9 if section_particles else 3
         if positions is None:
-            x = mesh.X_global[:, 0:3]
+            x = mesh.X_global[:, 0:ncol]
         else:
             x = np.asarray(positions, dtype=float)
-            if x.ndim != 2 or x.shape[0] != mesh.num_nodes_global or x.shape[1] < 3 \
-                    or not np.all(np.isfinite(x[:, :3])):
+            if x.ndim != 2 or x.shape[0] != mesh.num_nodes_global or x.shape[1] < ncol \
+                    or not np.all(np.isfinite(x[:, :ncol])):
+                need = "9" if section_particles else "3 or 9"
                 raise ValueError(f"FibreMatrixJunctions: positions must be finite, of shape "
-                                 f"({mesh.num_nodes_global}, 3 or 9), got {x.shape}")
-            x = x[:, 0:3]
+                                 f"({mesh.num_nodes_global}, {need}), got {x.shape}")
+            x = x[:, 0:ncol]
         # particles of every selected element (replicated geometry: every
         # rank computes all of them, then keeps those of its matrix cells)
         elements = np.flatnonzero(np.isin(mesh.element_fibre, selected))
         xi_q, w_q = _cpp.gauss_legendre(int(particles_per_element))
         N, dN = _shape(mesh.order, xi_q)
-        xe = x[mesh.elements_global[elements]]                 # (ne, nf, 3)
-        pts = np.einsum("qa,eac->eqc", N, xe).reshape(-1, 3)
-        jac = np.linalg.norm(np.einsum("qa,eac->eqc", dN, xe), axis=2)
-        weight = (jac * w_q[None, :]).ravel()
+        nq = len(xi_q)
+        xe = x[mesh.elements_global[elements]]                 # (ne, nf, 3 or 9)
+        station = np.einsum("qa,eac->eqc", N, xe)              # (ne, nq, 3 or 9)
+        jac = np.linalg.norm(np.einsum("qa,eac->eqc", dN, xe[:, :, 0:3]), axis=2)
+        weight = (jac * w_q[None, :]).ravel()                  # per station
+        elem = np.repeat(elements, nq)
+        xi = np.tile(xi_q, len(elements))
+        if section_particles:
+            # particles (station, section point): x0 + c1 g1 + c2 g2
+            radius = np.array([f.radius for f in mesh.fibres])[mesh.element_fibre[elem]]
+            c_unit, beta = section_rule(1.0)
+            section = radius[:, None, None] * c_unit[None, :, :]       # (ns, 5, 2)
+            st = station.reshape(-1, 9)
+            pts = (st[:, None, 0:3] + section[:, :, 0:1] * st[:, None, 3:6]
+                   + section[:, :, 1:2] * st[:, None, 6:9]).reshape(-1, 3)
+            npart = len(beta)
+            elem, xi = np.repeat(elem, npart), np.repeat(xi, npart)
+            weight = (weight[:, None] * beta[None, :]).ravel()
+            section = section.reshape(-1, 2)
+        else:
+            pts = station.reshape(-1, 3)
+            section = np.zeros((len(xi), 2))
+            npart = 1
         self.particles_per_element = int(particles_per_element)
-        self._make(model, block, float(stiffness), np.repeat(elements, len(xi_q)),
-                   np.tile(xi_q, len(elements)), weight, pts)
+        self.section_particles = section_particles
+        self.particles_per_station = npart
+        self._make(model, block, float(stiffness), elem, xi, weight, pts, section)
 
-    def _make(self, model, block, stiffness, elem, xi, weight, pts) -> None:
-        """Junctions of the particles (global element, xi, weight, position)
-        that lie inside the block (collective)."""
+    def _make(self, model, block, stiffness, elem, xi, weight, pts, section=None) -> None:
+        """Junctions of the particles (global element, xi, weight, position,
+        section coordinates, default the centre line) that lie inside the
+        block (collective)."""
+        if section is None:
+            section = np.zeros((len(xi), 2))
         mesh = model.mesh
         self.fields = ("beam", block.name)
         self.block, self.stiffness = block, stiffness
@@ -174,6 +247,7 @@ class FibreMatrixJunctions(Effect):
         sel = np.flatnonzero(inside)[mine]
         self._elem_global = elem[sel]
         self._xi, self._weight, self._points = xi[sel], weight[sel], pts[sel]
+        self._section = np.ascontiguousarray(section[sel], dtype=float).reshape(-1, 2)
         self._cells, self._phi = cells[mine], phi[mine]
         nodes = mesh.elements_global[self._elem_global]           # (n, nf)
         self._nodes_global = nodes
@@ -212,8 +286,9 @@ class FibreMatrixJunctions(Effect):
                                "number of cell nodes")
         # all junctions in one batch (C++): no Python loop per junction
         self._set = _cpp.JunctionSet(
-            self.stiffness, mesh.order + 1, self._local.ravel(), self._xi, self._weight,
-            np.ascontiguousarray(mesh.X_local[:, 0:3]).ravel(),
+            self.stiffness, mesh.order + 1, self._local.ravel(), self._xi,
+            self._section.ravel(), self._weight,
+            np.ascontiguousarray(mesh.X_local[:, 0:9]).ravel(),
             np.ascontiguousarray(self._points).ravel(), self._cell_nodes.ravel(),
             np.ascontiguousarray(self._phi, dtype=float).ravel())
 
@@ -221,7 +296,9 @@ class FibreMatrixJunctions(Effect):
         m = self.block.name
         if not len(self._local):
             return
-        # one block per distinct (fibre element, matrix cell) pair
+        # one block per distinct (fibre element, matrix cell) pair; the
+        # beam field's blocks are whole nodes (9 unknowns: x0, g1, g2), so
+        # the section particles' couplings of g1, g2 are in the pattern too
         key = np.column_stack([self._local, self._cell_nodes])
         for row in np.unique(key, axis=0):
             nodes, dofs = row[: self._local.shape[1]], row[self._local.shape[1]:]
@@ -239,7 +316,8 @@ class FibreMatrixJunctions(Effect):
 
     def statistics(self) -> dict:
         """Constants of the junction set (the same on every rank, not collective):
-        "junctions" (made), "junctions_outside" (particles outside the matrix,
+        "junctions" (particles tied: stations x particles_per_station, less
+        those outside), "junctions_outside" (particles outside the matrix,
         no junction), "junction_length" (fibre length the junctions stand
         for, sum of w), "junction_off_rank_fraction" (share of (junction,
         fibre node) couplings whose node the assembling rank does not own)."""
@@ -257,6 +335,10 @@ class FibreMatrixJunctions(Effect):
     def points(self) -> np.ndarray:
         """(n, 3) where this rank's junctions were made (X_m)."""
         return self._points.copy()
+
+    def section_coordinates(self) -> np.ndarray:
+        """(n, 2) section coordinates (c1, c2) of this rank's junction particles."""
+        return self._section.copy()
 
     def weights(self) -> np.ndarray:
         """(n,) fibre length each of this rank's junctions stands for."""

@@ -2,7 +2,8 @@
 
 A thin case of :class:`~textile.effects.fibre_matrix_junction.FibreMatrixJunctions`:
 each tie is a junction whose particle is the node itself (the element
-coordinate of the node in one of its elements), with weight w = 1 and the
+coordinate of the node in one of its elements; its centroid only, no section
+particles: the node's section vectors are not tied), with weight w = 1 and the
 stiffness k in N/m per tie (not per unit length), energy 1/2 k |gap|^2,
 gap = x_node - x_m. Prefer the junctions along the fibre, whose stiffness
 per unit length does not depend on the node spacing.
@@ -65,6 +66,7 @@ class FibreMatrixTie(FibreMatrixJunctions):
         local = np.argmax(hit[elem, :, np.arange(len(g))], axis=1)
         xi = -1.0 + 2.0 * local / mesh.order
         self.particles_per_element = 0
+        self.section_particles, self.particles_per_station = False, 1
         self._make(model, block, float(stiffness), elem, xi, np.ones(len(g)),
                    mesh.X_global[g, 0:3])
         if self.num_outside:

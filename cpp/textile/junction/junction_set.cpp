@@ -1,30 +1,33 @@
 #include "junction_set.h"
 #include "fibre_matrix_junction.h"
 
+#include <algorithm>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
 namespace textile::junction
 {
 JunctionSet::JunctionSet(double k, int num_fibre_nodes, std::vector<std::int32_t> element_nodes,
-                         std::vector<double> xi, std::vector<double> weight,
-                         std::vector<double> X_fibre, std::vector<double> X_matrix,
-                         std::vector<std::int32_t> cell_nodes, std::vector<double> phi)
+                         std::vector<double> xi, std::vector<double> section,
+                         std::vector<double> weight, std::vector<double> X_fibre,
+                         std::vector<double> X_matrix, std::vector<std::int32_t> cell_nodes,
+                         std::vector<double> phi)
     : _k(k), _nf(num_fibre_nodes),
       _nm(xi.empty() ? 0 : static_cast<int>(cell_nodes.size() / xi.size())),
-      _elem(std::move(element_nodes)), _xi(std::move(xi)), _w(std::move(weight)),
-      _Xf(std::move(X_fibre)), _Xm(std::move(X_matrix)), _cells(std::move(cell_nodes)),
-      _phi(std::move(phi))
+      _elem(std::move(element_nodes)), _xi(std::move(xi)), _c(std::move(section)),
+      _w(std::move(weight)), _Xf(std::move(X_fibre)), _Xm(std::move(X_matrix)),
+      _cells(std::move(cell_nodes)), _phi(std::move(phi))
 {
   const std::size_t n = _xi.size();
   if (!(_k > 0))
     throw std::invalid_argument("JunctionSet: stiffness must be positive");
   if (_nf != 2 and _nf != 3)
     throw std::invalid_argument("JunctionSet: num_fibre_nodes must be 2 or 3");
-  if (_elem.size() != n * _nf or _w.size() != n or _Xm.size() != 3 * n
-      or _cells.size() != n * _nm or _phi.size() != _cells.size() or _Xf.size() % 3)
+  if (_elem.size() != n * _nf or _c.size() != 2 * n or _w.size() != n or _Xm.size() != 3 * n
+      or _cells.size() != n * _nm or _phi.size() != _cells.size() or _Xf.size() % 9)
     throw std::invalid_argument("JunctionSet: inconsistent array sizes");
-  const std::size_t nfib = _Xf.size() / 3;
+  const std::size_t nfib = _Xf.size() / 9;
   for (std::size_t j = 0; j < n; ++j)
   {
     if (!(_w[j] > 0) or !(_xi[j] >= -1 and _xi[j] <= 1))
@@ -37,6 +40,25 @@ JunctionSet::JunctionSet(double k, int num_fibre_nodes, std::vector<std::int32_t
       if (_cells[_nm * j + b] < 0)
         throw std::invalid_argument("JunctionSet: negative matrix node index");
   }
+  // group the junctions by (element nodes, cell nodes), keeping their order
+  // within a group
+  _order.resize(n);
+  std::iota(_order.begin(), _order.end(), std::size_t(0));
+  auto key_less = [&](std::size_t i, std::size_t j)
+  {
+    auto ei = _elem.begin() + _nf * i, ej = _elem.begin() + _nf * j;
+    if (!std::equal(ei, ei + _nf, ej))
+      return std::lexicographical_compare(ei, ei + _nf, ej, ej + _nf);
+    auto ci = _cells.begin() + _nm * i, cj = _cells.begin() + _nm * j;
+    return std::lexicographical_compare(ci, ci + _nm, cj, cj + _nm);
+  };
+  std::stable_sort(_order.begin(), _order.end(), key_less);
+  _group.assign(1, 0);
+  for (std::size_t i = 1; i <= n; ++i)
+    if (i == n or key_less(_order[i - 1], _order[i]))
+      _group.push_back(i);
+  if (n == 0)
+    _group.assign(1, 0);
 }
 
 void JunctionSet::gather(std::size_t j, std::span<const double> u_fibre,
@@ -46,10 +68,10 @@ void JunctionSet::gather(std::size_t j, std::span<const double> u_fibre,
   for (int a = 0; a < _nf; ++a)
   {
     const std::size_t node = static_cast<std::size_t>(_elem[_nf * j + a]);
-    for (int c = 0; c < 3; ++c)
+    for (int c = 0; c < 9; ++c)
     {
-      Xf[3 * a + c] = _Xf[3 * node + c];
-      uf[3 * a + c] = u_fibre[9 * node + c];
+      Xf[9 * a + c] = _Xf[9 * node + c];
+      uf[9 * a + c] = u_fibre[9 * node + c];
     }
   }
   for (int b = 0; b < _nm; ++b)
@@ -66,22 +88,22 @@ double JunctionSet::assemble_vector(std::span<const double> u_fibre,
 {
   if (b_fibre.size() != u_fibre.size() or b_matrix.size() != u_matrix.size())
     throw std::invalid_argument("JunctionSet.assemble_vector: b and u sizes differ");
-  std::vector<double> Xf(3 * _nf), uf(3 * _nf), um(3 * _nm), r(3 * (_nf + _nm));
+  std::vector<double> Xf(9 * _nf), uf(9 * _nf), um(3 * _nm), r(9 * _nf + 3 * _nm);
   double energy = 0;
   for (std::size_t j = 0; j < size(); ++j)
   {
     gather(j, u_fibre, u_matrix, Xf, uf, um);
     std::fill(r.begin(), r.end(), 0.0);
-    energy += fibre_matrix_junction(_k, _w[j], _nf, _xi[j], Xf, uf,
-                                    std::span(_Xm).subspan(3 * j, 3),
+    energy += fibre_matrix_junction(_k, _w[j], _nf, _xi[j], std::span(_c).subspan(2 * j, 2), Xf,
+                                    uf, std::span(_Xm).subspan(3 * j, 3),
                                     std::span(_phi).subspan(_nm * j, _nm), um, {}, r, {});
     for (int a = 0; a < _nf; ++a)
-      for (int c = 0; c < 3; ++c)
-        b_fibre[9 * static_cast<std::size_t>(_elem[_nf * j + a]) + c] += r[3 * a + c];
+      for (int c = 0; c < 9; ++c)
+        b_fibre[9 * static_cast<std::size_t>(_elem[_nf * j + a]) + c] += r[9 * a + c];
     for (int b = 0; b < _nm; ++b)
       for (int c = 0; c < 3; ++c)
         b_matrix[3 * static_cast<std::size_t>(_cells[_nm * j + b]) + c]
-            += r[3 * (_nf + b) + c];
+            += r[9 * _nf + 3 * b + c];
   }
   return energy;
 }
@@ -89,43 +111,50 @@ double JunctionSet::assemble_vector(std::span<const double> u_fibre,
 void JunctionSet::assemble_matrix(Mat A, std::span<const std::int32_t> dofs_fibre,
                                   std::span<const std::int32_t> dofs_matrix)
 {
-  const int m = 3 * (_nf + _nm);
-  const std::size_t n = size();
-  _indices.resize(n * m);
-  for (std::size_t j = 0; j < n; ++j)
+  const int m = 9 * _nf + 3 * _nm;
+  const std::size_t ng = _group.size() - 1;
+  _indices.resize(ng * m);
+  for (std::size_t g = 0; g < ng; ++g)
   {
-    std::int32_t* idx = _indices.data() + j * m;
+    const std::size_t j = _order[_group[g]]; // any junction of the group
+    std::int32_t* idx = _indices.data() + g * m;
     for (int a = 0; a < _nf; ++a)
-      for (int c = 0; c < 3; ++c)
-        idx[3 * a + c] = dofs_fibre[9 * static_cast<std::size_t>(_elem[_nf * j + a]) + c];
+      for (int c = 0; c < 9; ++c)
+        idx[9 * a + c] = dofs_fibre[9 * static_cast<std::size_t>(_elem[_nf * j + a]) + c];
     for (int b = 0; b < _nm; ++b)
       for (int c = 0; c < 3; ++c)
-        idx[3 * (_nf + b) + c]
+        idx[9 * _nf + 3 * b + c]
             = dofs_matrix[3 * static_cast<std::size_t>(_cells[_nm * j + b]) + c];
   }
   // the tangent is constant (quadratic energy): evaluate it at zero
-  // displacement, where only the reference geometry enters
+  // displacement; the junctions of a group add into one block
   _insertion.add_blocks(
       A, _indices, m,
-      [&](std::size_t j, std::span<double> K)
+      [&](std::size_t g, std::span<double> K)
       {
-        std::vector<double> Xf(3 * _nf), zf(3 * _nf, 0.0), zm(3 * _nm, 0.0);
-        for (int a = 0; a < _nf; ++a)
-          for (int c = 0; c < 3; ++c)
-            Xf[3 * a + c] = _Xf[3 * static_cast<std::size_t>(_elem[_nf * j + a]) + c];
-        fibre_matrix_junction(_k, _w[j], _nf, _xi[j], Xf, zf, std::span(_Xm).subspan(3 * j, 3),
-                              std::span(_phi).subspan(_nm * j, _nm), zm, {}, {}, K);
+        std::vector<double> Xf(9 * _nf), zf(9 * _nf, 0.0), zm(3 * _nm, 0.0);
+        for (std::size_t i = _group[g]; i < _group[g + 1]; ++i)
+        {
+          const std::size_t j = _order[i];
+          for (int a = 0; a < _nf; ++a)
+            for (int c = 0; c < 9; ++c)
+              Xf[9 * a + c] = _Xf[9 * static_cast<std::size_t>(_elem[_nf * j + a]) + c];
+          fibre_matrix_junction(_k, _w[j], _nf, _xi[j], std::span(_c).subspan(2 * j, 2), Xf, zf,
+                                std::span(_Xm).subspan(3 * j, 3),
+                                std::span(_phi).subspan(_nm * j, _nm), zm, {}, {}, K);
+        }
       });
 }
 
 std::vector<double> JunctionSet::gaps(std::span<const double> u_fibre,
                                       std::span<const double> u_matrix) const
 {
-  std::vector<double> out(3 * size()), Xf(3 * _nf), uf(3 * _nf), um(3 * _nm);
+  std::vector<double> out(3 * size()), Xf(9 * _nf), uf(9 * _nf), um(3 * _nm);
   for (std::size_t j = 0; j < size(); ++j)
   {
     gather(j, u_fibre, u_matrix, Xf, uf, um);
-    fibre_matrix_junction(_k, _w[j], _nf, _xi[j], Xf, uf, std::span(_Xm).subspan(3 * j, 3),
+    fibre_matrix_junction(_k, _w[j], _nf, _xi[j], std::span(_c).subspan(2 * j, 2), Xf, uf,
+                          std::span(_Xm).subspan(3 * j, 3),
                           std::span(_phi).subspan(_nm * j, _nm), um,
                           std::span(out).subspan(3 * j, 3), {}, {});
   }

@@ -17,8 +17,14 @@ namespace textile::junction
 /// per unit length k, the same fibre element (num_fibre_nodes = 2 or 3) and
 /// the same number of matrix cell nodes n_m (taken from the data).
 ///
-/// Unknown layouts: fibre field 9 per local node, the first 3 the position
-/// (displacement of the centre-line point); matrix field 3 per local node.
+/// Unknown layouts: fibre field 9 per local node (x0, g1, g2); matrix field
+/// 3 per local node. Each junction's fibre particle is at section
+/// coordinates (c1, c2) (0, 0 on the centre line), so its fibre side is a
+/// linear combination of the element nodes' 9 unknowns.
+///
+/// The tangent is assembled one block per distinct (fibre element, matrix
+/// cell) pair: the junctions sharing both (e.g. the particles of a section
+/// that fall in the same cell) are summed into one block.
 class JunctionSet
 {
 public:
@@ -27,18 +33,23 @@ public:
   /// @param element_nodes   local fibre nodes of each junction's element,
   ///                        num_fibre_nodes per junction
   /// @param xi              each particle's coordinate in its element, [-1, 1]
+  /// @param section         each particle's section coordinates (c1, c2), 2 each
   /// @param weight          fibre length each particle stands for (> 0)
-  /// @param X_fibre         reference positions of the local fibre nodes (3 each)
+  /// @param X_fibre         reference unknowns of the local fibre nodes (9 each:
+  ///                        x0, g1, g2)
   /// @param X_matrix        reference matrix point of each junction (3 each)
   /// @param cell_nodes      local matrix nodes (block dofs) of each
   ///                        junction's cell, n_m per junction
   /// @param phi             their basis values at X_matrix, n_m per junction
   JunctionSet(double k, int num_fibre_nodes, std::vector<std::int32_t> element_nodes,
-              std::vector<double> xi, std::vector<double> weight, std::vector<double> X_fibre,
+              std::vector<double> xi, std::vector<double> section, std::vector<double> weight,
+              std::vector<double> X_fibre,
               std::vector<double> X_matrix, std::vector<std::int32_t> cell_nodes,
               std::vector<double> phi);
 
   std::size_t size() const { return _xi.size(); }
+  /// Tangent blocks: distinct (fibre element, matrix cell) pairs.
+  std::size_t num_blocks() const { return _group.size() - 1; }
   int num_cell_nodes() const { return _nm; }
   int num_fibre_nodes() const { return _nf; }
   double stiffness() const { return _k; }
@@ -75,9 +86,12 @@ private:
   double _k;
   int _nf, _nm;
   std::vector<std::int32_t> _elem;
-  std::vector<double> _xi, _w, _Xf, _Xm;
+  std::vector<double> _xi, _c, _w, _Xf, _Xm;
   std::vector<std::int32_t> _cells;
   std::vector<double> _phi;
+  // junctions grouped by (element nodes, cell nodes): group g holds
+  // _order[_group[g], _group[g + 1])
+  std::vector<std::size_t> _order, _group;
   assembly::BlockInsertion _insertion;
   std::vector<std::int32_t> _indices; // block indices of the last assembly
 };
