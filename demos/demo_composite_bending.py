@@ -88,8 +88,10 @@ if woven is None:
     weaving = Weaving(fabric, steps=5, tension=1e-4, comm=comm)
     weaving.run()
     textile.save_state(weaving.model, woven, fibre_data={"yarn": fabric.fibre_yarn})
+    woven_summary = weaving.summary()   # collective: every rank
     if comm.rank == 0:
-        print(f"woven: {weaving.summary()['crossings in pattern order']} crossings in order")
+        print(f"woven: {woven_summary['crossings in pattern order']} of "
+              f"{woven_summary['crossings']} crossings in pattern order")
 
 # 2. The composite around it: matrix, junctions, side bodies.
 size = None if args.size is None else args.size * R
@@ -107,8 +109,8 @@ stages = [
     textile.Stage("bending", ramp={left_turn: -half, right_turn: half},
                   solver=dict(initial_step=1.0 / args.steps, max_step=1.0 / args.steps)),
 ]
+stats = composite.junctions.statistics()   # collective
 if comm.rank == 0:
-    stats = composite.junctions.statistics()
     print(f"matrix box {composite.corners[0]} .. {composite.corners[1]}; "
           f"{stats['junctions']} junctions ({stats['junctions_outside']} particles outside)")
 
