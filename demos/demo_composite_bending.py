@@ -68,6 +68,9 @@ parser.add_argument("--angle", type=float, default=10.0, help="bending angle (de
 parser.add_argument("--steps", type=int, default=5, help="load steps of the bending")
 parser.add_argument("--size", type=float, default=None,
                     help="matrix element size, in fibre radii (default 8: four diameters)")
+parser.add_argument("--degree", type=int, default=2,
+                    help="matrix displacement degree: 2 (default) or 1 (linear tetrahedra "
+                         "lock in bending with one element through the thickness)")
 args = parser.parse_args()
 comm = MPI.COMM_WORLD
 os.makedirs(args.output, exist_ok=True)
@@ -95,8 +98,8 @@ if woven is None:
 
 # 2. The composite around it: matrix, junctions, side bodies.
 size = None if args.size is None else args.size * R
-composite = Composite(fabric, woven, matrix_material, size=size, sides=("xmin", "xmax"),
-                      comm=comm)
+composite = Composite(fabric, woven, matrix_material, size=size, degree=args.degree,
+                      sides=("xmin", "xmax"), comm=comm)
 left, right = composite.sides["xmin"], composite.sides["xmax"]
 left.fix(("x", "y", "z", "rx", "rz"))
 right.fix(("y", "z", "rx", "rz"))       # x free: the sample is not stretched
