@@ -133,9 +133,9 @@ E_F, RADIUS, LENGTH = 1.0e5, 0.05, 1.0
 EA = E_F * np.pi * RADIUS ** 2
 
 
-def pull_out(beta_l, e_matrix, num_elements=20, particles=None, cells=(12, 3, 3)):
+def pull_out(beta_l, e_matrix, num_elements=20, particles=None, cells=(12, 3, 3),
+             comm=MPI.COMM_SELF):
     """F/u of a fibre along the axis of a clamped block, pulled at one end."""
-    comm = MPI.COMM_SELF
     k_s = EA * (beta_l / LENGTH) ** 2
     block = ElasticBlock(box_mesh(comm, [-0.1, -0.31, -0.29], [1.1, 0.29, 0.31], cells),
                          e_matrix, 0.3, clamp=everywhere)
@@ -167,6 +167,15 @@ def test_shear_lag_pull_out(beta_l):
     # fibre's Poisson contraction, which stiffens the pulled fibre by
     # O(nu^2 k / E_f): F/u up by 2.7e-5 and 4.9e-4
     assert abs(ratio / exact - 1) < 2e-3, ratio / exact
+
+
+@pytest.mark.mpi
+def test_pull_out_same_on_one_and_two_ranks():
+    """The shear-lag pull-out on all ranks gives the serial F/u (1e-8)."""
+    e_matrix = 1e4 * EA * 9.0
+    serial, _ = pull_out(3.0, e_matrix, comm=MPI.COMM_SELF)
+    parallel, _ = pull_out(3.0, e_matrix, comm=MPI.COMM_WORLD)
+    assert parallel == pytest.approx(serial, rel=1e-8)
 
 
 def test_pull_out_matrix_compliance_negligible():

@@ -59,3 +59,17 @@ def test_load_through_junctions(case):
     # mixture, 10300 with the centre-line junctions only: the section
     # particles also tie the fibres' sections to the stiff matrix)
     assert fibres_alone * (1 - 2e-3) < K < mixture * (1 + 2e-3)
+
+
+@pytest.mark.mpi
+@pytest.mark.parametrize("case", list(RATIOS))
+@pytest.mark.parametrize("right_face", [True, False], ids=["uniform", "through junctions"])
+def test_same_on_one_and_two_ranks(case, right_face):
+    """Both hard cases give the serial force on all ranks (1e-8)."""
+    e_m = RATIOS[case] * E_F
+    forces = []
+    for comm in (MPI.COMM_SELF, MPI.COMM_WORLD):
+        model, _, _, _, _ = composite(comm, 8, "displacement", e_m=e_m, right_face=right_face)
+        solve(model)
+        forces.append(model.rigid_bodies.reactions()[1, 0])
+    assert forces[1] == pytest.approx(forces[0], rel=1e-8)
