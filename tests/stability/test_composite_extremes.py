@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 from mpi4py import MPI
 
+import textile
 from tests.rigid.test_side_bodies import (A_B, A_F, E_F, FIBRES_YZ, L, STRETCH, composite,
                                           exact_force, solve)
 
@@ -30,11 +31,21 @@ def _finite_state(model) -> bool:
     return bool(np.all(np.isfinite(model.x.getArray(readonly=True))))
 
 
+def solve_with_output(model, out):
+    """Solve with an Output (checked by guard.clean_output: one record and
+    one VTU per step, finite numbers only)."""
+    solver = textile.Solver(model, dict(verbose=False), output=textile.Output(out, pictures=False))
+    solver.solve()
+    assert model.load_factor == 1.0
+    guard.clean_output(out, solver)
+    return solver
+
+
 @pytest.mark.parametrize("case", list(RATIOS))
-def test_uniform_strain(case):
+def test_uniform_strain(case, out):
     e_m = RATIOS[case] * E_F
     model, _, _, _, _ = composite(MPI.COMM_SELF, 8, "displacement", e_m=e_m)
-    solver = solve(model)
+    solver = solve_with_output(model, out)
     guard.newton_count(f"composite uniform, {case}", solver)
     assert _finite_state(model)
     force = model.rigid_bodies.reactions()[1, 0]
@@ -44,10 +55,10 @@ def test_uniform_strain(case):
 
 
 @pytest.mark.parametrize("case", list(RATIOS))
-def test_load_through_junctions(case):
+def test_load_through_junctions(case, out):
     e_m = RATIOS[case] * E_F
     model, _, _, _, _ = composite(MPI.COMM_SELF, 8, "displacement", e_m=e_m, right_face=False)
-    solver = solve(model)
+    solver = solve_with_output(model, out)
     guard.newton_count(f"composite through junctions, {case}", solver)
     assert _finite_state(model)
     K = model.rigid_bodies.reactions()[1, 0] / ((STRETCH - 1) * L)
