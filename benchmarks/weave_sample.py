@@ -85,30 +85,31 @@ def main():
     if comm.rank == 0:
         print(runtime.describe())
     runs = []
+    path = os.path.join(OUT, "weave_sample.json")
     for pattern in args.patterns:
         r = weave(pattern, args.fibres, args.yarns, args.elements, args.spacing, args.packing,
                   args.solver, comm)
         runs.append(r)
-        if comm.rank == 0:
-            s = r["size"]
-            print(f"\n{pattern}: {s['fibres']} fibres, {s['fibre_nodes']} fibre nodes, "
-                  f"{s['fibre_unknowns']} fibre unknowns ({s['unknowns']} in all), "
-                  f"{s['contact_elements']} contact elements ({s['active_contacts']} active)")
-            print(f"{'step':>5} {'stage':<11} {'t':>6} {'Newton':>7} {'attempts':>9} "
-                  f"{'updates':>8} {'wall [s]':>9}")
-            for st in r["steps"]:
-                print(f"{st['step']:5d} {st['stage']:<11} {st['load_factor']:6.3f} "
-                      f"{st['newton_iterations']:7d} {st['attempts']:9d} {st['updates']:8d} "
-                      f"{st['wall_seconds']:9.1f}")
-            print(f"total {r['wall_seconds']:.1f} s, counters {r['counters']}")
-            if r["error"]:
-                print(f"FAILED: {r['error']}")
-            for k, v in r["summary"].items():
-                print(f"  {k:<28} {v:.4g}" if isinstance(v, float) else f"  {k:<28} {v}")
-    peak = comm.allreduce(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
-    if comm.rank == 0:
+        peak = comm.allreduce(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
+        if comm.rank != 0:
+            continue
+        s = r["size"]
+        print(f"\n{pattern}: {s['fibres']} fibres, {s['fibre_nodes']} fibre nodes, "
+              f"{s['fibre_unknowns']} fibre unknowns ({s['unknowns']} in all), "
+              f"{s['contact_elements']} contact elements ({s['active_contacts']} active)")
+        print(f"{'step':>5} {'stage':<11} {'t':>6} {'Newton':>7} {'attempts':>9} "
+              f"{'updates':>8} {'wall [s]':>9}")
+        for st in r["steps"]:
+            print(f"{st['step']:5d} {st['stage']:<11} {st['load_factor']:6.3f} "
+                  f"{st['newton_iterations']:7d} {st['attempts']:9d} {st['updates']:8d} "
+                  f"{st['wall_seconds']:9.1f}")
+        print(f"total {r['wall_seconds']:.1f} s, counters {r['counters']}")
+        if r["error"]:
+            print(f"FAILED: {r['error']}")
+        for k, v in r["summary"].items():
+            print(f"  {k:<28} {v:.4g}" if isinstance(v, float) else f"  {k:<28} {v}")
         print(f"peak memory (sum over ranks) {peak:.0f} MiB")
-        path = os.path.join(OUT, "weave_sample.json")
+        # written after every pattern: a long run stopped later keeps its results
         with open(path, "w") as f:
             json.dump(dict(date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
                            blas=runtime.blas_info(), ranks=comm.size, runs=runs,
