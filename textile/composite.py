@@ -34,23 +34,13 @@ import numbers
 import numpy as np
 from mpi4py import MPI
 
-from . import fabric_measures
 from .block_nodes import BlockNodes
 from .effects.elastic_block import ElasticBlock
-from .effects.fibre_contact import FibreContact
 from .effects.fibre_matrix_junction import FibreMatrixJunctions
 from .fabric import Fabric
-from .io import fabric_labels
-from .io.state_file import load_fibres, saved_configuration
-from .loading import Stage
 from .material import Material
 from .matrix_mesh import gmsh_box
-from .model import Model
-from .output import Output
-from .rigid_body import RigidBody
-
-#: The sides a body can drive, with the yarn direction ending there and which end.
-SIDES = {"xmin": ("warp", 0), "xmax": ("warp", -1), "ymin": ("weft", 0), "ymax": ("weft", -1)}
+from .sample import SIDES, Sample  # noqa: F401  (SIDES: re-exported)
 
 
 def woven_box(configuration: np.ndarray, radius: np.ndarray, overlap: float):
@@ -65,8 +55,9 @@ def woven_box(configuration: np.ndarray, radius: np.ndarray, overlap: float):
     return p0, p1
 
 
-class Composite:
-    """A fabric in a matrix, with side bodies (module docstring).
+class Composite(Sample):
+    """A fabric in a matrix, with side bodies (module docstring); the
+    fabric-only scene, its stages and results are :class:`~textile.sample.Sample`'s.
 
     Parameters
     ----------
@@ -114,107 +105,31 @@ class Composite:
         if not isinstance(matrix, Material):
             raise TypeError(f"Composite: matrix must be a textile.Material, got "
                             f"{type(matrix).__name__}")
-        sides = (sides,) if isinstance(sides, str) else tuple(sides)
-        unknown = [s for s in sides if s not in SIDES]
-        if unknown or not sides or len(set(sides)) != len(sides):
-            raise ValueError(f"Composite: sides must be distinct names among {tuple(SIDES)}, "
-                             f"got {sides!r}")
-        fibres = fabric.fibres()
-        radius = max(f.radius for f in fibres)
+        radius = max(f.radius for f in fabric.fibres())
         size = 8.0 * radius if size is None else size
         overlap = 0.25 * radius if overlap is None else overlap
         for name, v in (("size", size), ("overlap", overlap)):
             if isinstance(v, bool) or not isinstance(v, numbers.Real) or not np.isfinite(v) \
                     or v < 0 or (name == "size" and v == 0):
                 raise ValueError(f"Composite: {name} must be a positive length, got {v!r}")
-        self.fabric, self.woven = fabric, woven
-        # the configuration everything is built around: the woven one
-        configuration = None
-        if woven is not None:
-            configuration = comm.bcast(saved_configuration(woven) if comm.rank == 0 else None,
-                                       root=0)
-        self.model = Model(fibres, comm=comm)
-        mesh = self.model.mesh
-        if configuration is None:
-            configuration = mesh.X_global
-        if configuration.shape != mesh.X_global.shape:
-            raise ValueError(f"Composite: the woven state has {len(configuration)} fibre nodes, "
-                             f"this fabric {len(mesh.X_global)}: give the weaving run's fabric")
+        self._matrix = dict(material=matrix, size=size, overlap=overlap, degree=degree, law=law,
+                            junction_stiffness=junction_stiffness)
+        super().__init__(fabric, woven, sides=sides, contact=contact, comm=comm)
+
+    def _add_matrix(self, configuration: np.ndarray) -> None:
+        """The matrix box around ``configuration``, its block and the junctions."""
+        o, model = self._matrix, self.model
+        fibres = model.mesh.fibres
         node_radius = np.repeat([f.radius for f in fibres], [f.num_nodes for f in fibres])
-        self.corners = woven_box(configuration, node_radius, overlap)
-        self.matrix_mesh = gmsh_box(comm, *self.corners, size)
-        self.contact = None
-        if contact is not False:
-            self.contact = FibreContact(contact)
-            self.model.add_effect(self.contact)
-        self.block = ElasticBlock(self.matrix_mesh, matrix.young, matrix.poisson, law=law,
-                                  degree=degree)
-        self.model.add_effect(self.block)
-        self.junctions = FibreMatrixJunctions(self.model, self.block,
-                                              stiffness=junction_stiffness,
+        self.corners = woven_box(configuration, node_radius, o["overlap"])
+        self.matrix_mesh = gmsh_box(model.comm, *self.corners, o["size"])
+        self.block = ElasticBlock(self.matrix_mesh, o["material"].young, o["material"].poisson,
+                                  law=o["law"], degree=o["degree"])
+        model.add_effect(self.block)
+        self.junctions = FibreMatrixJunctions(model, self.block,
+                                              stiffness=o["junction_stiffness"],
                                               positions=configuration)
-        self.model.add_effect(self.junctions)
-        self.sides: dict[str, RigidBody] = {}
-        held = set()
-        for side in sides:
-            ends = self._yarn_ends(side)
-            body = RigidBody(side, sections=ends, block_nodes=BlockNodes(self.block, side))
-            self.model.add_rigid_body(body)
-            self.sides[side] = body
-            held.update(ends)
-        # the yarn ends no body holds: what held them in the weaving run
-        # (its yarn-end bodies) is replaced by a force, released over the
-        # first stage (release_stage)
-        self._free_ends = [e for side in SIDES for e in self._yarn_ends(side) if e not in held]
-        self._release = [self.model.add_force(f, k, np.zeros(9), dofs="all")
-                         for f, k in self._free_ends] if woven is not None else []
-        self.model.setup()
-        if woven is not None:
-            load_fibres(self.model, woven)
-            self._hold_free_ends()
+        model.add_effect(self.junctions)
 
-    def _yarn_ends(self, side: str) -> list[tuple[int, int]]:
-        """(fibre, node) of the yarn ends on ``side``."""
-        direction, end = SIDES[side]
-        fabric = self.fabric
-        yarns = [k for k in range(fabric.num_yarns) if fabric.yarn_direction(k) == direction]
-        return [(int(f), end) for f in np.flatnonzero(np.isin(fabric.fibre_yarn, yarns))]
-
-    def _hold_free_ends(self) -> None:
-        """Set the release forces to the generalized forces (9 a node) the
-        loaded state is out of balance by at the free yarn ends, so that it
-        starts in equilibrium (collective)."""
-        model, mesh = self.model, self.model.mesh
-        b = model.x.duplicate()
-        model.residual(None, model.x, b)
-        r = b.getArray(readonly=True)
-        imbalance = np.zeros((len(self._free_ends), 9))
-        local = mesh.global_to_local([mesh.node(f, k) for f, k in self._free_ends])
-        mine = np.flatnonzero((local >= 0) & (local < mesh.num_owned))
-        if len(mine):
-            rows = model.layout.offset("beam") + 9 * local[mine][:, None] + np.arange(9)
-            imbalance[mine] = r[model._owned_position(rows.ravel())].reshape(-1, 9)
-        imbalance = model.comm.allreduce(imbalance)
-        b.destroy()
-        for h, f in zip(self._release, imbalance):
-            h.schedule.start[h.index] = f
-            h.schedule.target[h.index] = f
-
-    def release_stage(self, steps: int = 2) -> Stage:
-        """The first stage: the forces that stand for the weaving run's
-        yarn-end bodies at the ends no side body holds go to zero (the
-        fabric is let go, its matrix takes the yarns' pre-stress); the side
-        bodies hold their components at zero."""
-        return Stage("release", ramp={h: 0.0 for h in self._release},
-                     solver=dict(initial_step=1.0 / steps, max_step=1.0 / steps))
-
-    def output(self, directory: str, **options) -> Output:
-        """An :class:`~textile.output.Output` writing fibres (with their yarn)
-        and matrix every step, and the fabric's figures."""
-        return Output(directory, **fabric_labels(self.fabric),
-                      extra=lambda model: fabric_measures.summary(self.fabric, model), **options)
-
-    def side_reaction(self, side: str) -> np.ndarray:
-        """(6,) force and moment the side body exerts on what it holds
-        (fibre ends and matrix face), about its current centre."""
-        return np.asarray(self.model.rigid_bodies.reaction(self.sides[side]))
+    def _side_block(self, side: str) -> dict:
+        return dict(block_nodes=BlockNodes(self.block, side))
