@@ -6,10 +6,7 @@
 
 namespace textile::rigid
 {
-namespace
-{
 using Vec3 = Eigen::Vector3d;
-} // namespace
 
 void sliding_coupling(const CouplingBase& base, std::span<const SlidingRow> rows,
                       std::span<const double> q, std::span<const double> centre,
