@@ -2,7 +2,9 @@
 // fibre end section (or a point) to a body, and body moments.
 #include "../textile/rigid/rigid_coupling.h"
 #include "../textile/rigid/rotation.h"
+#include "coupling_case.h"
 #include "fd.h"
+#include "symmetric_tangent_check.h"
 
 #include <gtest/gtest.h>
 
@@ -46,43 +48,17 @@ TEST(Rotation, LeftJacobianIsTheSpin)
 
 namespace
 {
-struct Case
-{
-  CouplingBase base;
-  std::vector<double> q, centre, theta, lambda, scale;
-};
+using textile::test::CouplingCase;
 
-Case section_case(bool section, double angle)
+/// A fully held section (or point): one multiplier per coupled value.
+CouplingCase section_case(bool section, double angle)
 {
-  Case c;
-  c.base.offset = Vec3(0.2, -0.1, 0.05);
-  c.base.g1 = Vec3(0, 1, 0);
-  c.base.g2 = Vec3(0, 0, 1);
-  c.base.section = section;
-  const int m = c.base.rows();
-  for (int k = 0; k < m; ++k)
-  {
-    c.q.push_back(0.1 * k - 0.3);
-    c.lambda.push_back(0.5 - 0.2 * k);
-    c.scale.push_back(1.0 + 0.5 * k);
-  }
-  c.centre = {0.3, 0.1, -0.2};
-  const Vec3 th = angle * Vec3(0.3, -0.6, 0.74).normalized();
-  c.theta = {th(0), th(1), th(2)};
+  CouplingCase c = textile::test::coupling_case(section, angle);
+  textile::test::set_multipliers(c, c.base.rows());
   return c;
 }
 
-/// The unknowns [q, u, theta, lambda] as one vector (u moves the centre).
-std::vector<double> pack(const Case& c)
-{
-  std::vector<double> x = c.q;
-  x.insert(x.end(), c.centre.begin(), c.centre.end());
-  x.insert(x.end(), c.theta.begin(), c.theta.end());
-  x.insert(x.end(), c.lambda.begin(), c.lambda.end());
-  return x;
-}
-
-std::vector<double> residual(const Case& c, const std::vector<double>& x)
+std::vector<double> residual(const CouplingCase& c, const std::vector<double>& x)
 {
   const int m = c.base.rows();
   std::vector<double> r(2 * m + 6, 0.0);
@@ -99,23 +75,15 @@ class RigidCouplingTangent : public ::testing::TestWithParam<std::tuple<bool, do
 TEST_P(RigidCouplingTangent, MatchesFiniteDifferencesAndIsSymmetric)
 {
   const auto [section, angle] = GetParam();
-  const Case c = section_case(section, angle);
+  const CouplingCase c = section_case(section, angle);
   const int m = c.base.rows(), n = 2 * m + 6;
-  const std::vector<double> x = pack(c);
+  const std::vector<double> x = textile::test::pack(c);
   std::vector<double> r(n, 0.0), K(n * n, 0.0);
   rigid_coupling(c.base, std::span(x).subspan(0, m), std::span(x).subspan(m, 3),
                  std::span(x).subspan(m + 3, 3), std::span(x).subspan(m + 6, m), c.scale, r, K);
   const auto Kfd = textile::test::fd_jacobian([&](const std::vector<double>& y)
                                               { return residual(c, y); }, x, 1e-6);
-  double scale = 0;
-  for (double v : K)
-    scale = std::max(scale, std::abs(v));
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-    {
-      EXPECT_NEAR(K[i * n + j], Kfd[i * n + j], 1e-8 * scale) << i << " " << j;
-      EXPECT_NEAR(K[i * n + j], K[j * n + i], 1e-14 * scale) << i << " " << j;
-    }
+  textile::test::expect_symmetric_tangent(K, Kfd, n, 1e-8, 1e-14);
 }
 
 INSTANTIATE_TEST_SUITE_P(SectionsAndPoints, RigidCouplingTangent,
@@ -126,7 +94,7 @@ TEST(RigidCoupling, SatisfiedConstraintHasZeroRows)
 {
   // q on the body: the constraint rows vanish, and the force on the body is
   // the reaction of the multipliers (equal and opposite on x0)
-  Case c = section_case(true, 0.7);
+  CouplingCase c = section_case(true, 0.7);
   const Vec3 th(c.theta.data()), ctr(c.centre.data());
   const Vec3 x0 = ctr + rotate<double>(th, c.base.offset);
   const Vec3 g1 = rotate<double>(th, c.base.g1), g2 = rotate<double>(th, c.base.g2);
@@ -136,7 +104,7 @@ TEST(RigidCoupling, SatisfiedConstraintHasZeroRows)
     c.q[3 + k] = g1(k);
     c.q[6 + k] = g2(k);
   }
-  const std::vector<double> r = residual(c, pack(c));
+  const std::vector<double> r = residual(c, textile::test::pack(c));
   for (int k = 0; k < 9; ++k)
     EXPECT_NEAR(r[15 + k], 0.0, 1e-15);
   for (int k = 0; k < 3; ++k)

@@ -2,7 +2,9 @@
 // (a frictionless plate): exact tangent, and free motion in the plate.
 #include "../textile/rigid/rotation.h"
 #include "../textile/rigid/sliding_coupling.h"
+#include "coupling_case.h"
 #include "fd.h"
+#include "symmetric_tangent_check.h"
 
 #include <gtest/gtest.h>
 
@@ -13,22 +15,17 @@ using Vec3 = Eigen::Vector3d;
 
 namespace
 {
-struct Case
+/// A coupling and the rows of its plate.
+struct Case : textile::test::CouplingCase
 {
-  CouplingBase base;
   std::vector<SlidingRow> rows;
-  std::vector<double> q, centre, theta, lambda, scale;
 };
 
 /// A plate of normal n holding a section (rows x0.n, g1.n, g2.n, g1.G2:
 /// the plate's own sliding-section rows) or a point (x0.n).
 Case plate_case(bool section, double angle, Vec3 n = Vec3(1, 2, -0.5).normalized())
 {
-  Case c;
-  c.base.offset = Vec3(0.2, -0.1, 0.05);
-  c.base.g1 = Vec3(0, 1, 0);
-  c.base.g2 = Vec3(0, 0, 1);
-  c.base.section = section;
+  Case c{textile::test::coupling_case(section, angle), {}};
   c.rows.push_back({0, n});
   if (section)
   {
@@ -36,26 +33,8 @@ Case plate_case(bool section, double angle, Vec3 n = Vec3(1, 2, -0.5).normalized
     c.rows.push_back({2, n});
     c.rows.push_back({1, c.base.g2});
   }
-  for (int k = 0; k < c.base.rows(); ++k)
-    c.q.push_back(0.1 * k - 0.3);
-  for (std::size_t k = 0; k < c.rows.size(); ++k)
-  {
-    c.lambda.push_back(0.5 - 0.2 * k);
-    c.scale.push_back(1.0 + 0.5 * k);
-  }
-  c.centre = {0.3, 0.1, -0.2};
-  const Vec3 th = angle * Vec3(0.3, -0.6, 0.74).normalized();
-  c.theta = {th(0), th(1), th(2)};
+  textile::test::set_multipliers(c, c.rows.size());
   return c;
-}
-
-std::vector<double> pack(const Case& c)
-{
-  std::vector<double> x = c.q;
-  x.insert(x.end(), c.centre.begin(), c.centre.end());
-  x.insert(x.end(), c.theta.begin(), c.theta.end());
-  x.insert(x.end(), c.lambda.begin(), c.lambda.end());
-  return x;
 }
 
 std::vector<double> evaluate(const Case& c, const std::vector<double>& x, std::vector<double>* K)
@@ -79,22 +58,14 @@ TEST_P(SlidingCouplingTangent, MatchesFiniteDifferencesAndIsSymmetric)
 {
   const auto [section, angle] = GetParam();
   const Case c = plate_case(section, angle);
-  const std::vector<double> x = pack(c);
+  const std::vector<double> x = textile::test::pack(c);
   std::vector<double> K;
   evaluate(c, x, &K);
   const auto Kfd = textile::test::fd_jacobian(
       [&](const std::vector<double>& y) { return evaluate(c, y, nullptr); }, x, 1e-6);
   const std::size_t n = x.size();
-  double scale = 0;
-  for (double v : K)
-    scale = std::max(scale, std::abs(v));
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t j = 0; j < n; ++j)
-    {
-      // central differences at h = 1e-6: truncation ~1e-12 relative
-      EXPECT_NEAR(K[i * n + j], Kfd[i * n + j], 1e-8 * scale) << i << " " << j;
-      EXPECT_NEAR(K[i * n + j], K[j * n + i], 1e-14 * scale) << i << " " << j;
-    }
+  // central differences at h = 1e-6: truncation ~1e-12 relative
+  textile::test::expect_symmetric_tangent(K, Kfd, n, 1e-8, 1e-14);
 }
 
 INSTANTIATE_TEST_SUITE_P(SectionsAndPoints, SlidingCouplingTangent,
@@ -118,11 +89,11 @@ TEST(SlidingCoupling, SectionSlidesAndContractsInThePlateFreely)
     c.q[3 + k] = g1(k);
     c.q[6 + k] = g2(k);
   }
-  auto r = evaluate(c, pack(c), nullptr);
+  auto r = evaluate(c, textile::test::pack(c), nullptr);
   for (std::size_t k = 0; k < c.rows.size(); ++k)
     EXPECT_NEAR(r[15 + k], 0.0, 1e-15) << k;
   for (int k = 0; k < 3; ++k)
     c.q[k] += 1e-3 * n(k);
-  r = evaluate(c, pack(c), nullptr);
+  r = evaluate(c, textile::test::pack(c), nullptr);
   EXPECT_NEAR(r[15], c.scale[0] * 1e-3, 1e-15);
 }

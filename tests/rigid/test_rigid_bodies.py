@@ -4,6 +4,7 @@ import pytest
 from mpi4py import MPI
 
 import textile
+from tests.finite_differences import assembled_tangent_and_differences
 
 E, NU, R = 1.0e9, 0.3, 1e-3
 A, J = np.pi * R ** 2, np.pi * R ** 4 / 2
@@ -122,8 +123,6 @@ def test_assembled_tangent_with_bodies_matches_finite_differences():
     """Couplings of sections and pins, body forces and moments, prescribed
     and free components: the assembled tangent is the residual's derivative
     at a state with finite body rotations and multipliers."""
-    from petsc4py import PETSc
-
     fibres = yarn(2, L=0.05, elements=2)
     model = textile.Model(fibres, comm=MPI.COMM_SELF)
     a = textile.RigidBody("a", sections=[(fibres[0], 0)], pins=[(fibres[1], 0)]).fix("x")
@@ -138,23 +137,6 @@ def test_assembled_tangent_with_bodies_matches_finite_differences():
     x = model.x
     x.setArray(rng.normal(scale=0.002, size=x.getLocalSize()))  # no folded element
     model.apply_constraints(x)
-    model.jacobian(None, x, model.A, model.A)
-    J = model.A.convert("dense", PETSc.Mat()).getDenseArray()
-    r = model.b.duplicate()
-    v0 = x.getArray().copy()
-
-    def residual(v):
-        y = x.duplicate()
-        y.setArray(v)
-        model.residual(None, y, r)
-        return r.getArray().copy()
-
-    free = np.setdiff1d(np.arange(len(v0)), model.constrained_positions())
-    h = 1e-7
-    Jfd = np.empty((len(v0), len(free)))
-    for k, j in enumerate(free):
-        e = np.zeros_like(v0)
-        e[j] = h
-        Jfd[:, k] = (residual(v0 + e) - residual(v0 - e)) / (2 * h)
+    J, Jfd, free = assembled_tangent_and_differences(model, x, h=1e-7)
     # central differences: truncation ~h^2 relative; measured ~1e-9
     assert np.linalg.norm(J[:, free] - Jfd) / np.linalg.norm(Jfd) < 1e-6

@@ -1,32 +1,12 @@
 #include "rigid_coupling.h"
 #include "rotation.h"
-
-#include <unsupported/Eigen/AutoDiff>
+#include "rotation_dual.h"
 
 #include <stdexcept>
 
 namespace textile::rigid
 {
-namespace
-{
-using AD1 = Eigen::AutoDiffScalar<Eigen::Vector3d>;
-using AD2 = Eigen::AutoDiffScalar<Eigen::Matrix<AD1, 3, 1>>;
 using Vec3 = Eigen::Vector3d;
-
-/// theta as second-order dual numbers: value, gradient and Hessian of any
-/// function of it come out of one evaluation.
-Eigen::Matrix<AD2, 3, 1> dual(const Vec3& theta)
-{
-  Eigen::Matrix<AD2, 3, 1> x;
-  for (int i = 0; i < 3; ++i)
-  {
-    x[i].value() = AD1(theta[i], 3, i);
-    x[i].derivatives() = Eigen::Matrix<AD1, 3, 1>::Constant(AD1(0.0, Vec3::Zero()));
-    x[i].derivatives()[i] = AD1(1.0, Vec3::Zero());
-  }
-  return x;
-}
-} // namespace
 
 void rigid_coupling(const CouplingBase& base, std::span<const double> q,
                     std::span<const double> centre, std::span<const double> theta,
