@@ -7,8 +7,14 @@ on 1 vs 2 ranks.
   M / (E I), max_stress = E r kappa (the section-averaged S33 is second
   order, E r^2 kappa^2 / 4);
 - two fibres, one pulled harder: it is ranked first;
+- the fibres .vtu of an Output carries the per-segment and per-fibre fields
+  (read back with VTK) and results.json the most loaded fibres of each step;
 - the figures on 2 ranks (a fibre cut between them) equal those on one.
 """
+import json
+import os
+import xml.etree.ElementTree as ET
+
 import numpy as np
 import pytest
 from mpi4py import MPI
@@ -127,7 +133,7 @@ def test_the_more_loaded_fibre_ranks_first():
         ranked_table(loads, yarn=[1])
 
 
-# -- a scene on the communicator's ranks: 1 vs 2 ranks ----------------------
+# -- a scene on the communicator's ranks: ParaView fields, 1 vs 2 ranks ----
 
 def scene(comm, directory=None):
     """Three fibres along x: 0 pulled, 1 bent by an end moment, 2 bent and
@@ -149,6 +155,55 @@ def scene(comm, directory=None):
     solver = textile.Solver(model, dict(initial_step=0.5, max_step=0.5, **QUIET), output=output)
     solver.solve()
     return model
+
+
+def read_series(pvd):
+    vtk_xml = pytest.importorskip(
+        "vtkmodules.vtkIOXML",
+        reason="VTK's Python modules are not importable (Debian: python3-vtk9)")
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    out = []
+    for ds in ET.parse(pvd).getroot().iter("DataSet"):
+        reader = vtk_xml.vtkXMLUnstructuredGridReader()
+        reader.SetFileName(os.path.join(os.path.dirname(pvd), ds.get("file")))
+        reader.Update()
+        grid = reader.GetOutput()
+        out.append(tuple({d.GetArrayName(i): vtk_to_numpy(d.GetArray(i))
+                          for i in range(d.GetNumberOfArrays())}
+                         for d in (grid.GetPointData(), grid.GetCellData())))
+    return out
+
+
+@pytest.mark.mpi
+def test_paraview_fields_and_results(tmp_path):
+    comm = MPI.COMM_WORLD
+    directory = comm.bcast(str(tmp_path), root=0)
+    model = scene(comm, directory)
+    loads = fibre_loads(model)
+    comm.barrier()
+    nodes = np.array([f.num_nodes for f in model.mesh.fibres])
+    series = read_series(os.path.join(directory, "fibres.pvd"))
+    assert len(series) == 2
+    point, cell = series[-1]
+    for name in FIGURES:    # per fibre, on points and cells, as fibre_data
+        np.testing.assert_allclose(point[name], np.repeat(loads[name], nodes), rtol=1e-12)
+        np.testing.assert_allclose(cell[name], np.repeat(loads[name], nodes - 1), rtol=1e-12)
+    np.testing.assert_array_equal(cell["yarn"], np.repeat([3, 4, 4], nodes - 1))
+    for name in ("curvature", "surface_stress"):
+        assert cell[name].shape == (sum(nodes - 1),) and np.all(cell[name] >= 0)
+    # the fibre's maxima are the largest of its segments'
+    fibre_of = np.repeat(np.arange(3), nodes - 1)
+    for f in range(3):
+        assert cell["curvature"][fibre_of == f].max() == pytest.approx(loads["max_curvature"][f])
+        assert cell["surface_stress"][fibre_of == f].max() == \
+            pytest.approx(loads["max_stress"][f])
+    assert loads["max_curvature"][0] < 1e-9 < loads["max_curvature"][1]
+    steps = json.load(open(os.path.join(directory, "results.json")))["steps"]
+    assert len(steps) == 2
+    top = steps[-1]["most_loaded_fibres"]
+    assert top["fibre"] == list(loads["most_loaded"])     # 3 fibres: all listed
+    for name in FIGURES:
+        np.testing.assert_allclose(top[name], loads[name][top["fibre"]], rtol=1e-12)
 
 
 @pytest.mark.mpi
