@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .fibre_loads import node_curvatures
+
 
 def _fibres_of(fabric, yarn: int) -> np.ndarray:
     fabric.fibres()
@@ -106,19 +108,8 @@ def crossing_separation(fabric, model) -> np.ndarray:
 
 def fibre_curvatures(model) -> np.ndarray:
     """(nodes,) curvature of the fibres' centre lines at their inner nodes
-    (0 at fibre ends)."""
-    q = model.nodal_unknowns()
-    mesh = model.mesh
-    kappa = np.zeros(mesh.num_nodes_global)
-    for f in range(len(mesh.fibres)):
-        nodes = mesh.fibre_nodes(f)
-        x = q[nodes, 0:3]
-        d = np.diff(x, axis=0)
-        length = np.linalg.norm(d, axis=1)
-        t = d / length[:, None]
-        cos = np.clip(np.sum(t[1:] * t[:-1], axis=1), -1.0, 1.0)
-        kappa[nodes[1:-1]] = np.arccos(cos) / (0.5 * (length[1:] + length[:-1]))
-    return kappa
+    (0 at fibre ends): :func:`textile.fibre_loads.node_curvatures`."""
+    return node_curvatures(model.mesh.first_node, model.nodal_unknowns()[:, 0:3])
 
 
 def summary(fabric, model) -> dict:

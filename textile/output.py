@@ -4,7 +4,14 @@
 step it writes the fibres (centre lines with section vectors, displacement,
 and per-segment section-averaged strain and stress) to
 ``<directory>/fibres_<step>.vtu``, indexes them in ``fibres.pvd``, and
-appends the step's statistics to ``results.json``. Everything is gathered
+appends the step's statistics to ``results.json``. The fibres' loads
+(:mod:`textile.fibre_loads`) go with them: per segment the element's
+``curvature`` and ``surface_stress``, per fibre (point and cell arrays, one
+value per fibre) ``max_axial_strain``, ``max_curvature`` and
+``max_stress``, and in each step's record of results.json
+``most_loaded_fibres``: the 5 fibres of largest ``max_stress``, as
+{"fibre": [5 indices], "max_axial_strain": [5 values], "max_curvature":
+[...], "max_stress": [...]}. Everything is gathered
 to rank 0 and written there. Files are replaced atomically, so a run that
 fails keeps every converged step.
 
@@ -31,13 +38,17 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from .fibre_loads import FIGURES, element_loads, fibre_maxima, gathered_element_fields, top_fibres
 from .io import PVDSeries, ResultsLog, write_fibres_vtu
 from .io.vtu import atomic_write_bytes
 
 _VOIGT = ("11", "22", "33", "23", "13", "12")
 # arrays Output writes itself: a fibre_data array may not take their names
-_RESERVED = {"fibre_id", "radius", "displacement", "g1", "g2"} | {
+_RESERVED = {"fibre_id", "radius", "displacement", "g1", "g2", "curvature",
+             "surface_stress"} | set(FIGURES) | {
     f"{kind}_{c}" for kind in ("strain", "stress") for c in _VOIGT}
+#: fibres listed per step in results.json (most_loaded_fibres)
+TOP_FIBRES = 5
 
 
 class SceneSeries:
@@ -182,9 +193,10 @@ class Output:
         self._open(model)
         extra = self.extra(model) if self.extra else {}
         write_vtu = record.step % self.every == 0
-        # "last": the state is kept at every step, for the pictures of a failed run
-        q = model.nodal_unknowns() if write_vtu or self.pictures else None
-        fields = self._segment_fields(model) if write_vtu else None
+        # every step: the fibres' loads for results.json, and with "last"
+        # the state is kept for the pictures of a failed run
+        q = model.nodal_unknowns()
+        element_fields = gathered_element_fields(model, root=0)
         contacts = self._contact_elements(model) if write_vtu else None
         blocks = self._write_blocks(model, record) if write_vtu else []
         if model.comm.rank != 0:
@@ -192,15 +204,18 @@ class Output:
         if contacts is not None and len(contacts["gap"]):
             self._write_contacts(record, contacts)
         mesh = model.mesh
-        lines = None if q is None else \
-            [q[mesh.fibre_nodes(f), 0:3] for f in range(len(mesh.fibres))]
+        lines = [q[mesh.fibre_nodes(f), 0:3] for f in range(len(mesh.fibres))]
+        per_element = element_loads(mesh, q[:, 0:3], element_fields)
+        loads = fibre_maxima(mesh, per_element)
         if write_vtu:
             counts = np.array([f.num_nodes for f in mesh.fibres])
+            per_fibre = {**{k: loads[k] for k in FIGURES}, **self.fibre_data}
             point_data = {"displacement": q[:, 0:3] - mesh.X_global[:, 0:3],
                           "g1": q[:, 3:6], "g2": q[:, 6:9],
                           "radius": np.repeat([f.radius for f in mesh.fibres], counts)}
-            point_data.update({k: np.repeat(a, counts) for k, a in self.fibre_data.items()})
-            fields.update({k: np.repeat(a, counts - 1) for k, a in self.fibre_data.items()})
+            point_data.update({k: np.repeat(a, counts) for k, a in per_fibre.items()})
+            fields = self._segment_fields(mesh, element_fields, per_element)
+            fields.update({k: np.repeat(a, counts - 1) for k, a in per_fibre.items()})
             name = f"fibres_{record.step:05d}.vtu"
             path = os.path.join(self.directory, name)
             write_fibres_vtu(path, lines, point_data=point_data, cell_data=fields)
@@ -213,6 +228,7 @@ class Output:
                               final_residual=record.residual_norms[-1] if record.residual_norms
                               else 0.0,
                               energy=record.energy, updates=record.updates,
+                              most_loaded_fibres=top_fibres(loads, TOP_FIBRES),
                               **{f"residual_{k}": v for k, v in record.residuals.items()},
                               **record.stability,
                               **record.effects, **extra))
@@ -279,23 +295,18 @@ class Output:
             "fibre_j": d["fibre_j"].astype(np.int32)})
         self._contact_pvd.add(record.time, name)
 
-    def _segment_fields(self, model) -> dict | None:
-        """Element fields mapped to polyline segments (an element of order p
-        spans p segments), gathered to rank 0."""
-        mesh = model.mesh
-        local = model.beam.element_fields(model.state().u["beam"])
-        ids = mesh.local_element_ids
-        parts = model.comm.gather((ids, local), root=0)
-        if model.comm.rank != 0:
-            return None
-        vals = np.zeros((len(mesh.elements_global), 12))
-        for i, v in parts:
-            vals[i] = v
-        per_segment = np.repeat(vals, mesh.order, axis=0)
+    @staticmethod
+    def _segment_fields(mesh, element_fields: np.ndarray, per_element: dict) -> dict:
+        """Gathered element fields and loads mapped to polyline segments (an
+        element of order p spans p segments)."""
+        def segments(v):
+            return np.repeat(v, mesh.order, axis=0)
         out = {}
         for k, c in enumerate(_VOIGT):
-            out[f"strain_{c}"] = per_segment[:, k]
-            out[f"stress_{c}"] = per_segment[:, 6 + k]
+            out[f"strain_{c}"] = segments(element_fields[:, k])
+            out[f"stress_{c}"] = segments(element_fields[:, 6 + k])
+        out["curvature"] = segments(per_element["curvature"])
+        out["surface_stress"] = segments(per_element["surface_stress"])
         return out
 
     def failure(self, message: str) -> None:
