@@ -114,7 +114,8 @@ class Composite(Sample):
                 raise ValueError(f"Composite: {name} must be a positive length, got {v!r}")
         self._matrix = dict(material=matrix, size=size, overlap=overlap, degree=degree, law=law,
                             junction_stiffness=junction_stiffness)
-        super().__init__(fabric, woven, sides=sides, contact=contact, comm=comm)
+        super().__init__(fabric, woven, sides=sides, contact=contact, free_ends="fibres",
+                         comm=comm)
 
     def _add_matrix(self, configuration: np.ndarray) -> None:
         """The matrix box around ``configuration``, its block and the junctions."""

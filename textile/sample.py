@@ -17,9 +17,14 @@ The scene:
   body component is then prescribed or loaded by the caller
   (``sample.sides["xmax"].prescribe("y", u)``);
 - the yarn ends no side body holds were held, in the weaving run, by the
-  yarns' end bodies: here a force stands for each such body, equal to what
-  it exerted in the saved state (so the sample starts in equilibrium), and
-  :meth:`Sample.release_stage` lets those forces go.
+  yarns' end bodies. Here (``free_ends="yarns"``, the default) each such
+  yarn end keeps a rigid body of its own, free, loaded by the force and
+  moment it exerted in the saved state (so the sample starts in
+  equilibrium): the fibres of a yarn end stay together, as in a yarn whose
+  tip is sealed; a lone fibre end of a small sample's yarn, resting on a
+  crossing or two, would slide away. With ``free_ends="fibres"`` a force on
+  each fibre end stands for it instead (a composite's matrix holds the
+  fibres). :meth:`Sample.release_stage` lets those loads go.
 
 :class:`~textile.composite.Composite` adds a matrix (and junctions) to this
 scene; its side bodies also hold the matrix faces.
@@ -72,19 +77,27 @@ class Sample:
         :class:`~textile.effects.fibre_contact.ContactOptions` or a dict, or
         False for no fibre-fibre contact. A virtual test on a fabric without
         matrix needs friction: frictionless contacts leave yarns free to
-        slide over each other (a zero-stiffness mode).
+        slide over each other (a zero-stiffness mode). Friction starts
+        afresh in the woven state (every contact sticking, no tangential
+        force: ``FibreContact.reset_friction``): the yarns got there
+        slipping, at the friction limit.
+    free_ends:
+        "yarns" or "fibres": what stands for the weaving run's end bodies at
+        the yarn ends no side body holds (module docstring).
     comm:
         MPI communicator.
     """
 
     def __init__(self, fabric: Fabric, woven: str | None, sides=("xmin", "xmax"), pins=(),
-                 contact=None, comm=MPI.COMM_WORLD):
+                 contact=None, free_ends: str = "yarns", comm=MPI.COMM_WORLD):
         name = type(self).__name__
         if not isinstance(fabric, Fabric):
             raise TypeError(f"{name}: fabric must be a textile.fabric.Fabric, got "
                             f"{type(fabric).__name__}")
         sides = _side_names(sides, f"{name}: sides")
         pins = _side_names(pins, f"{name}: pins", allow_empty=True)
+        if free_ends not in ("yarns", "fibres"):
+            raise ValueError(f"{name}: free_ends must be 'yarns' or 'fibres', got {free_ends!r}")
         if not set(pins) <= set(sides):
             raise ValueError(f"{name}: pins {pins!r} must be among the sides {sides!r}")
         self.fabric, self.woven = fabric, woven
@@ -118,14 +131,28 @@ class Sample:
             self.sides[side] = body
             held.update(ends)
         # the yarn ends no body holds: what held them in the weaving run
-        # (its yarn-end bodies) is replaced by a force, released over the
+        # (its yarn-end bodies) is replaced by loads, released over the
         # first stage (release_stage)
         self._free_ends = [e for side in SIDES for e in self._yarn_ends(side) if e not in held]
-        self._release = [self.model.add_force(f, k, np.zeros(9), dofs="all")
-                         for f, k in self._free_ends] if woven is not None else []
+        self._release = []          # handles of the loads that stand for the end bodies
+        self.end_bodies: list[RigidBody] = []
+        if woven is not None and free_ends == "fibres":
+            self._release = [self.model.add_force(f, k, np.zeros(9), dofs="all")
+                             for f, k in self._free_ends]
+        elif woven is not None:
+            for side in SIDES:
+                if side in self.sides:
+                    continue
+                for k, ends in self._ends_by_yarn(side).items():
+                    body = RigidBody(f"{side} end of yarn {k}", sections=ends)
+                    self._release += [body.add_force(np.zeros(3)), body.add_moment(np.zeros(3))]
+                    self.model.add_rigid_body(body)
+                    self.end_bodies.append(body)
         self.model.setup()
         if woven is not None:
             load_fibres(self.model, woven)
+            if self.contact is not None:
+                self.contact.reset_friction(self.model)
             self._hold_free_ends()
 
     # -- hooks of a sample with a matrix (Composite) --------------------------
@@ -143,6 +170,13 @@ class Sample:
         fabric = self.fabric
         yarns = [k for k in range(fabric.num_yarns) if fabric.yarn_direction(k) == direction]
         return [(int(f), end) for f in np.flatnonzero(np.isin(fabric.fibre_yarn, yarns))]
+
+    def _ends_by_yarn(self, side: str) -> dict[int, list[tuple[int, int]]]:
+        """{yarn: its (fibre, node) ends on ``side``}."""
+        out: dict[int, list] = {}
+        for f, k in self._yarn_ends(side):
+            out.setdefault(int(self.fabric.fibre_yarn[f]), []).append((f, k))
+        return out
 
     def end_positions(self, side: str) -> np.ndarray:
         """(ends, 3) positions, in the starting configuration, of the yarn
@@ -169,9 +203,13 @@ class Sample:
 
     # -- stages and results -----------------------------------------------------
     def _hold_free_ends(self) -> None:
-        """Set the release forces to the generalized forces (9 a node) the
-        loaded state is out of balance by at the free yarn ends, so that it
-        starts in equilibrium (collective)."""
+        """Set the loads at the free yarn ends to what the loaded state is
+        out of balance by there, so that it starts in equilibrium
+        (collective): per fibre end its generalized force (9 a node), or per
+        end body the resultant force and moment about its centre (a nodal
+        force f = (f_x, f_g1, f_g2) on (x0, g1, g2) has moment
+        (x0 - c) x f_x + g1 x f_g1 + g2 x f_g2: the section vectors turn as
+        dg = dtheta x g)."""
         model, mesh = self.model, self.model.mesh
         b = model.x.duplicate()
         model.residual(None, model.x, b)
@@ -184,9 +222,24 @@ class Sample:
             imbalance[mine] = r[model._owned_position(rows.ravel())].reshape(-1, 9)
         imbalance = model.comm.allreduce(imbalance)
         b.destroy()
-        for h, f in zip(self._release, imbalance):
-            h.schedule.start[h.index] = f
-            h.schedule.target[h.index] = f
+        if not self.end_bodies:
+            values = imbalance
+        else:
+            q = model.nodal_unknowns()
+            centres = model.rigid_bodies.positions()
+            row = {e: i for i, e in enumerate(self._free_ends)}
+            values = []
+            for body in self.end_bodies:
+                b = next(i for i, t in enumerate(model.rigid_bodies.bodies) if t is body)
+                i = [row[(f, k)] for f, k in body.held("sections")]
+                f, x = imbalance[i], q[[mesh.node(fi, k) for fi, k in body.held("sections")]]
+                moment = np.cross(x[:, 0:3] - centres[b], f[:, 0:3]).sum(axis=0) + sum(
+                    np.cross(x[:, 3 * j:3 * j + 3], f[:, 3 * j:3 * j + 3]).sum(axis=0)
+                    for j in (1, 2))
+                values += [f[:, 0:3].sum(axis=0), moment]
+        for h, v in zip(self._release, values):
+            h.schedule.start[h.index] = v
+            h.schedule.target[h.index] = v
 
     def release_stage(self, steps: int = 2) -> Stage:
         """The first stage: the forces that stand for the weaving run's
@@ -207,11 +260,24 @@ class Sample:
         return np.asarray(self.model.rigid_bodies.reaction(self.sides[side]))
 
     def reaction_balance(self) -> np.ndarray:
-        """(6,) sum of the forces and of the moments (about the origin) that
-        the side bodies exert on the sample: zero in equilibrium once the
-        free yarn ends are released (after :meth:`release_stage`; collective)."""
+        """(6,) sum of the forces, and of the moments about the origin, that
+        act on the sample from outside: the reactions of the side bodies and
+        of the free yarn ends' bodies, or the forces held at free fibre ends
+        (zero once released). Zero in equilibrium, up to the couples of
+        friction forces (applied on the centre lines, a radius or two from
+        the surfaces where they act) and of woven contacts (their normal
+        kept from weaving, not along the line between the contact points).
+        Valid outside a release stage (collective)."""
         bodies = self.model.rigid_bodies
         r = bodies.reactions()
         c = bodies.positions()
-        return np.concatenate([r[:, 0:3].sum(axis=0),
-                               (r[:, 3:6] + np.cross(c, r[:, 0:3])).sum(axis=0)])
+        total = np.concatenate([r[:, 0:3].sum(axis=0),
+                                (r[:, 3:6] + np.cross(c, r[:, 0:3])).sum(axis=0)])
+        if self._release and not self.end_bodies:
+            mesh = self.model.mesh
+            q = self.model.nodal_unknowns()[[mesh.node(f, k) for f, k in self._free_ends]]
+            f = np.array([h.value for h in self._release]).reshape(-1, 9)
+            total[0:3] += f[:, 0:3].sum(axis=0)
+            total[3:6] += sum(np.cross(q[:, 3 * i:3 * i + 3], f[:, 3 * i:3 * i + 3]).sum(axis=0)
+                              for i in range(3))
+        return total

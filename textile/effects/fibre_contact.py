@@ -566,16 +566,34 @@ class FibreContact(Effect):
             self._woven = _cpp.WeavingOrder(
                 np.asarray(data["woven_fibre_yarn"], dtype=np.intc),
                 np.asarray(data["woven_yarn_above"], dtype=np.int8))
+        self._restore(model, {k: data[k] for k in self.SAVED}, int(data["num_zones"]))
+
+    def _restore(self, model, columns: dict, num_zones: int) -> None:
+        """Elements from saved columns (ContactSet.data() of all ranks or of
+        this one), evaluated at the model's unknowns, as the committed set."""
         mesh, o = model.mesh, self.options
         q = model.beam_positions(model.state())
-        self.set = _cpp.ContactSet.from_saved({k: data[k] for k in self.SAVED},
-                                              int(data["num_zones"]), q, mesh.first_node,
+        self.set = _cpp.ContactSet.from_saved(columns, num_zones, q, mesh.first_node,
                                               mesh.order, self.radius, self.g_r, o.friction,
                                               self.u_rev, mesh.owned)
         self.set.evaluate(q)  # results at the loaded state, as after a commit
         self._committed = self.set.copy()
         self.coverage = _cpp.CouplingPattern()
         self._matrix_has_contact = False
+
+    def reset_friction(self, model) -> None:
+        """Start friction afresh at the current state: every contact sticks
+        where it is, with no tangential force (its stick point moved by its
+        elastic slip). A test starting from a woven state: the yarns reached
+        their places slipping, at the friction limit, where a free yarn has
+        no tangential stiffness. No-op without friction."""
+        if self.options.friction == 0:
+            return
+        d = self._committed.data()
+        columns = {k: np.asarray(d[k]) for k in self.SAVED}
+        columns["stick"] = columns["stick"] + np.asarray(d["elastic_slip"]).reshape(
+            columns["stick"].shape)
+        self._restore(model, columns, self._committed.num_zones)
 
     def load_fibres(self, model, data: dict) -> None:
         """A new scene starts from saved fibres (textile.load_fibres): take

@@ -1,0 +1,13 @@
+"""Virtual tests on woven samples and composites (METHOD.md section 8):
+tension, shear (the paper's set-up and the picture frame), bending and
+twisting, each driven by side rigid bodies from a saved woven state, with a
+load curve (CSV, PNG), ParaView output per step and the test's figures."""
+from .bending import Bending
+from .load_curve import LoadCurve
+from .shear import Shear
+from .tension import Tension
+from .twisting import Twisting
+from .virtual_test import VirtualTest, VirtualTestResult
+
+__all__ = ["Bending", "LoadCurve", "Shear", "Tension", "Twisting", "VirtualTest",
+           "VirtualTestResult"]

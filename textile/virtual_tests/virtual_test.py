@@ -1,0 +1,246 @@
+"""What every virtual test shares: a woven sample driven by side bodies
+through a release stage and a loading stage, a load curve recorded at
+every step, the balance of the side bodies' reactions checked, and the
+results written for a person to look at.
+
+A concrete test (tension, shear, ...) says which sides get a body and how
+they are held (:meth:`VirtualTest.hold`), what it ramps
+(:meth:`VirtualTest.drive`) and what it measures at a step
+(:meth:`VirtualTest.measure`).
+"""
+from __future__ import annotations
+
+import json
+import os
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from mpi4py import MPI
+
+from ..composite import Composite
+from ..fibre_loads import FIGURES, fibre_loads, ranked_table
+from ..fabric import Fabric
+from ..loading import Stage
+from ..material import Material
+from ..sample import Sample
+from ..solver import Solver
+from .load_curve import LoadCurve
+
+
+@dataclass
+class VirtualTestResult:
+    """What a virtual test gives back (every rank gets the same).
+
+    Attributes
+    ----------
+    name:
+        The test ("tension", "shear", ...).
+    curve:
+        The :class:`~textile.virtual_tests.load_curve.LoadCurve` (first point:
+        the released sample).
+    steps:
+        Per loading step: step number, load factor, Newton iterations,
+        attempts (failed ones included), wall seconds, the reactions'
+        balance (:meth:`VirtualTest.balance`) and the test's own figures.
+    figures:
+        The test's summary (e.g. a membrane stiffness, a locking angle).
+    wall_seconds:
+        The whole run (release and loading), construction excluded.
+    counters:
+        The solver's counters (factorizations, Newton solves, ...).
+    """
+
+    name: str
+    curve: LoadCurve
+    steps: list = field(default_factory=list)
+    figures: dict = field(default_factory=dict)
+    wall_seconds: float = 0.0
+    counters: dict = field(default_factory=dict)
+    #: per fibre at the last step (:func:`textile.fibre_loads.fibre_loads`)
+    fibre_loads: dict = field(default_factory=dict)
+    #: each fibre's yarn, for tables
+    fibre_yarn: np.ndarray | None = None
+
+    def ranked_table(self, count: int = 10) -> str:
+        """The most loaded fibres at the last step."""
+        return ranked_table(self.fibre_loads, count=count, yarn=self.fibre_yarn)
+
+    @property
+    def force_balance(self) -> float:
+        """The largest force imbalance over the loading steps
+        (:meth:`VirtualTest.balance`)."""
+        return max((s["force_balance"] for s in self.steps), default=0.0)
+
+    @property
+    def moment_balance(self) -> float:
+        """The largest moment imbalance over the loading steps."""
+        return max((s["moment_balance"] for s in self.steps), default=0.0)
+
+    def write(self, directory: str) -> list[str]:
+        """``<name>.csv``, ``<name>.png`` and ``<name>.json`` (the steps and
+        figures) in ``directory`` (call on one rank); their paths."""
+        paths = self.curve.write(directory, self.name)
+        with open(os.path.join(directory, f"{self.name}_fibres.txt"), "w") as f:
+            f.write(self.ranked_table(count=20) + "\n")
+        path = os.path.join(directory, f"{self.name}.json")
+        with open(path, "w") as f:
+            json.dump(dict(name=self.name, figures=self.figures, wall_seconds=self.wall_seconds,
+                           curve=dict(x=self.curve.x, y=self.curve.y, xlabel=self.curve.xlabel,
+                                      ylabel=self.curve.ylabel),
+                           steps=self.steps, counters=self.counters,
+                           most_loaded_fibres=[int(i) for i in
+                                               self.fibre_loads.get("most_loaded", [])[:20]]),
+                      f, indent=1, default=float)
+        return paths + [path]
+
+
+class VirtualTest:
+    """A virtual test on a woven sample (module docstring).
+
+    Parameters
+    ----------
+    fabric, woven:
+        The :class:`~textile.fabric.Fabric` and the path of its saved woven
+        state (:func:`textile.save_state` after a weaving run).
+    steps:
+        Load steps of the loading stage.
+    matrix:
+        None (the fabric alone) or the matrix :class:`~textile.material.Material`
+        (a :class:`~textile.composite.Composite`); ``composite`` holds more
+        of its options (size, degree, ...).
+    contact:
+        Fibre-fibre contact options. A fabric alone needs friction (its yarns
+        would slide freely over each other otherwise): default friction 0.2.
+    release_steps:
+        Steps of the first stage, which lets the free yarn ends go; 0: no
+        such stage, the free yarn ends keep, as dead loads, the forces that
+        held them in the woven state (the yarns' weaving tension): a small
+        sample's yarns with free ends rest on a few crossings only and can
+        slide away once let go.
+    solver_options:
+        :class:`~textile.solver.SolverOptions` entries (tolerances, linear
+        solver, verbose).
+    output:
+        Directory for the ParaView series, results.json and pictures of
+        every step (None: nothing written during the run).
+    comm:
+        MPI communicator.
+    """
+
+    name = "virtual test"
+    xlabel = ""
+    ylabel = ""
+    #: sides with a body, and those of them pinned (not clamped)
+    sides: tuple = ("xmin", "xmax")
+    pins: tuple = ()
+
+    def __init__(self, fabric: Fabric, woven: str, steps: int = 10, matrix: Material | None = None,
+                 composite: dict | None = None, contact=None, release_steps: int = 0,
+                 solver_options: dict | None = None, output: str | None = None,
+                 comm=MPI.COMM_WORLD):
+        if woven is None or not isinstance(woven, (str, os.PathLike)):
+            raise TypeError(f"{type(self).__name__}: woven must be the path of a saved woven "
+                            f"state (textile.save_state after a Weaving run), got {woven!r}")
+        for label, v, low in (("steps", steps, 1), ("release_steps", release_steps, 0)):
+            if isinstance(v, bool) or not isinstance(v, int) or v < low:
+                raise ValueError(f"{type(self).__name__}: {label} must be an integer >= {low}, "
+                                 f"got {v!r}")
+        if contact is None:
+            contact = dict(friction=0.0 if matrix is not None else 0.2)
+        if matrix is None:
+            if composite:
+                raise ValueError(f"{type(self).__name__}: composite options {composite!r} "
+                                 f"without a matrix")
+            self.sample = Sample(fabric, str(woven), sides=self.sides, pins=self.pins,
+                                 contact=contact, comm=comm)
+        else:
+            if self.pins:
+                raise ValueError(f"{type(self).__name__}: pinned sides are not available with "
+                                 f"a matrix (a matrix face follows its body fully)")
+            self.sample = Composite(fabric, str(woven), matrix, sides=self.sides,
+                                    contact=contact, comm=comm, **(composite or {}))
+        self.steps, self.release_steps = steps, release_steps
+        self.solver_options = dict(verbose=False) | dict(solver_options or {})
+        self.output_dir = output
+        self.comm = comm
+        self.gauge = self.sample.side_distance("x")
+
+    # -- what a concrete test says ---------------------------------------------
+    def drive(self) -> dict:
+        """Hold the side bodies; return {handle: target at the stage end} of
+        the loading stage (before the model is solved)."""
+        raise NotImplementedError
+
+    def measure(self, s: float) -> tuple[float, float, dict]:
+        """(abscissa, ordinate, figures) at the loading stage's load factor
+        ``s`` (collective)."""
+        raise NotImplementedError
+
+    def summarize(self, result: VirtualTestResult) -> dict:
+        """The test's figures from its curve."""
+        return {}
+
+    # -- shared ----------------------------------------------------------------
+    def balance(self) -> tuple[float, float]:
+        """(force imbalance, moment imbalance) of the loads on the sample
+        (:meth:`~textile.sample.Sample.reaction_balance`): |sum of the
+        forces| over the largest body force, and |sum of the moments about
+        the origin| over the largest body moment about the origin (forces
+        at the body centres included). The forces balance to the Newton
+        tolerance; the moments only up to the couples of friction and
+        woven contacts, which the contact formulation applies on the centre
+        lines (collective)."""
+        total = self.sample.reaction_balance()
+        bodies = self.sample.model.rigid_bodies
+        r, c = bodies.reactions(), bodies.positions()
+        f = np.linalg.norm(r[:, 0:3], axis=1).max()
+        m = np.linalg.norm(r[:, 3:6] + np.cross(c, r[:, 0:3]), axis=1).max()
+        return (float(np.linalg.norm(total[0:3]) / f) if f > 0 else 0.0,
+                float(np.linalg.norm(total[3:6]) / m) if m > 0 else 0.0)
+
+    def run(self) -> VirtualTestResult:
+        """Release, then load step by step; the result (collective)."""
+        targets = self.drive()
+        stages = [Stage(self.name, ramp=targets,
+                        solver=dict(initial_step=1.0 / self.steps, max_step=1.0 / self.steps))]
+        # the first stage lets the free yarn ends go, or (release_steps=0)
+        # only settles the loaded woven state with this test's contact
+        # options: the curve starts where it ends
+        stages.insert(0, self.sample.release_stage(self.release_steps) if self.release_steps
+                      else Stage("release", solver=dict(initial_step=1.0, max_step=1.0)))
+        curve = LoadCurve(self.xlabel, self.ylabel, title=f"{self.name} of the woven sample")
+        result = VirtualTestResult(self.name, curve,
+                                   fibre_yarn=np.asarray(self.sample.fabric.fibre_yarn))
+
+        def record(solver, rec):
+            if rec.stage == "release":
+                if rec.load_factor < 1.0:
+                    return
+                s = 0.0
+            else:
+                s = rec.load_factor
+            x, y, figures = self.measure(s)
+            curve.add(x, y)
+            if rec.stage != "release":
+                force_balance, moment_balance = self.balance()
+                loads = fibre_loads(self.sample.model)
+                top = int(loads["most_loaded"][0])
+                result.steps.append(dict(
+                    step=rec.step, load_factor=s, newton_iterations=rec.newton_iterations,
+                    attempts=rec.attempts, wall_seconds=rec.wall_time,
+                    force_balance=force_balance, moment_balance=moment_balance, x=x, y=y,
+                    most_loaded_fibre=top,
+                    **{k: float(loads[k][top]) for k in FIGURES}, **figures))
+                result.fibre_loads = loads
+
+        output = self.sample.output(self.output_dir) if self.output_dir else None
+        solver = Solver(self.sample.model, self.solver_options, output=output, on_step=record)
+        t0 = time.perf_counter()
+        solver.run(stages)
+        result.wall_seconds = time.perf_counter() - t0
+        result.counters = solver.counters
+        result.figures = self.summarize(result)
+        if self.output_dir and self.comm.rank == 0:
+            result.write(self.output_dir)
+        return result
