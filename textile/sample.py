@@ -84,12 +84,18 @@ class Sample:
     free_ends:
         "yarns" or "fibres": what stands for the weaving run's end bodies at
         the yarn ends no side body holds (module docstring).
+    split:
+        Those of ``sides`` whose yarn ends get one body per yarn instead of
+        one for the side (``yarn_bodies[side][yarn]``), each driven on its
+        own: e.g. spread with the sample in biaxial tension, where a rigid
+        side would hold the ends of the other direction at their woven
+        spacing.
     comm:
         MPI communicator.
     """
 
     def __init__(self, fabric: Fabric, woven: str | None, sides=("xmin", "xmax"), pins=(),
-                 contact=None, free_ends: str = "yarns", comm=MPI.COMM_WORLD):
+                 contact=None, free_ends: str = "yarns", split=(), comm=MPI.COMM_WORLD):
         name = type(self).__name__
         if not isinstance(fabric, Fabric):
             raise TypeError(f"{name}: fabric must be a textile.fabric.Fabric, got "
@@ -98,8 +104,10 @@ class Sample:
         pins = _side_names(pins, f"{name}: pins", allow_empty=True)
         if free_ends not in ("yarns", "fibres"):
             raise ValueError(f"{name}: free_ends must be 'yarns' or 'fibres', got {free_ends!r}")
-        if not set(pins) <= set(sides):
-            raise ValueError(f"{name}: pins {pins!r} must be among the sides {sides!r}")
+        split = _side_names(split, f"{name}: split", allow_empty=True)
+        for label, subset in (("pins", pins), ("split", split)):
+            if not set(subset) <= set(sides):
+                raise ValueError(f"{name}: {label} {subset!r} must be among the sides {sides!r}")
         self.fabric, self.woven = fabric, woven
         fibres = fabric.fibres()
         # the configuration everything is built around: the woven one
@@ -122,13 +130,22 @@ class Sample:
             self.model.add_effect(self.contact)
         self._add_matrix(configuration)
         self.sides: dict[str, RigidBody] = {}
+        self.yarn_bodies: dict[str, dict[int, RigidBody]] = {}
         held = set()
         for side in sides:
             ends = self._yarn_ends(side)
-            hold = dict(pins=ends) if side in pins else dict(sections=ends)
-            body = RigidBody(side, **hold, **self._side_block(side))
-            self.model.add_rigid_body(body)
-            self.sides[side] = body
+            if side in split:
+                self.yarn_bodies[side] = {}
+                for k, mine in self._ends_by_yarn(side).items():
+                    hold = dict(pins=mine) if side in pins else dict(sections=mine)
+                    body = RigidBody(f"{side} yarn {k}", **hold)
+                    self.model.add_rigid_body(body)
+                    self.yarn_bodies[side][k] = body
+            else:
+                hold = dict(pins=ends) if side in pins else dict(sections=ends)
+                body = RigidBody(side, **hold, **self._side_block(side))
+                self.model.add_rigid_body(body)
+                self.sides[side] = body
             held.update(ends)
         # the yarn ends no body holds: what held them in the weaving run
         # (its yarn-end bodies) is replaced by loads, released over the
@@ -141,7 +158,7 @@ class Sample:
                              for f, k in self._free_ends]
         elif woven is not None:
             for side in SIDES:
-                if side in self.sides:
+                if side in self.sides or side in self.yarn_bodies:
                     continue
                 for k, ends in self._ends_by_yarn(side).items():
                     body = RigidBody(f"{side} end of yarn {k}", sections=ends)
@@ -178,11 +195,12 @@ class Sample:
             out.setdefault(int(self.fabric.fibre_yarn[f]), []).append((f, k))
         return out
 
-    def end_positions(self, side: str) -> np.ndarray:
+    def end_positions(self, side: str, yarn: int | None = None) -> np.ndarray:
         """(ends, 3) positions, in the starting configuration, of the yarn
-        ends on ``side``."""
+        ends on ``side`` (of one ``yarn`` only if given)."""
         mesh = self.model.mesh
-        return self.configuration[[mesh.node(f, k) for f, k in self._yarn_ends(side)], 0:3]
+        ends = self._yarn_ends(side) if yarn is None else self._ends_by_yarn(side)[yarn]
+        return self.configuration[[mesh.node(f, k) for f, k in ends], 0:3]
 
     def side_distance(self, axis: str = "x") -> float:
         """Distance between the yarn ends of the two sides across ``axis``
@@ -255,9 +273,17 @@ class Sample:
                       extra=lambda model: fabric_measures.summary(self.fabric, model), **options)
 
     def side_reaction(self, side: str) -> np.ndarray:
-        """(6,) force and moment the side body exerts on what it holds
-        (fibre ends, and matrix face), about its current centre (collective)."""
-        return np.asarray(self.model.rigid_bodies.reaction(self.sides[side]))
+        """(6,) force and moment the side's body (or its yarn bodies
+        together) exerts on what it holds (fibre ends, and matrix face),
+        about its current centre (the mean of the yarn bodies' centres)
+        (collective)."""
+        bodies = self.model.rigid_bodies
+        if side not in self.yarn_bodies:
+            return np.asarray(bodies.reaction(self.sides[side]))
+        index = [i for i, b in enumerate(bodies.bodies) if b in self.yarn_bodies[side].values()]
+        r, c = bodies.reactions()[index], bodies.positions()[index]
+        return np.concatenate([r[:, 0:3].sum(axis=0),
+                               (r[:, 3:6] + np.cross(c - c.mean(axis=0), r[:, 0:3])).sum(axis=0)])
 
     def reaction_balance(self) -> np.ndarray:
         """(6,) sum of the forces, and of the moments about the origin, that

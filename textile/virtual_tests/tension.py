@@ -5,13 +5,12 @@ the body of xmax holds their end sections and moves along x to the nominal
 strain ``strain`` (of the distance between the two sides), its other
 components held; the weft yarns' ends are free.
 
-Biaxial (``ratio`` given): the four sides get a body each, frictionless
-plates (``slide``) so that the yarn ends of a side can spread or close
-along it as the other direction stretches (a rigid clamp would hold them at
-their woven spacing); xmax moves by ``strain`` along x, ymax by
-``ratio * strain`` along y. Plates leave the sample free to move up and
-down as a whole: the fibre node nearest the sample's centre is held in z
-(it carries no load in equilibrium; its reaction is reported).
+Biaxial (``ratio`` given): every yarn end is clamped by a body of its own
+(a multi-clamp rig), moved with the homogeneous in-plane stretch of the
+sample about its centre: strain ``strain`` along x, ``ratio * strain``
+along y, so that the yarn ends of a side spread as the other direction
+stretches (a rigid side would hold them at their woven spacing); their
+other components are held.
 Crimp interchange shows in the biaxial curves: a yarn direction stretched
 less than the other straightens less and is stiffer.
 
@@ -46,7 +45,7 @@ class Tension(VirtualTest):
         self.strain, self.ratio = float(strain), ratio
         if ratio is not None:
             self.name = "biaxial_tension"
-            self.sides = ("xmin", "xmax", "ymin", "ymax")
+            self.sides = self.split = ("xmin", "xmax", "ymin", "ymax")
             if options.get("matrix") is not None:
                 raise ValueError("Tension: biaxial tension of a composite is not available "
                                  "(its sides' bodies would share the matrix's edge nodes)")
@@ -58,14 +57,33 @@ class Tension(VirtualTest):
             sides["xmin"].fix("all")
             sides["xmax"].fix(("y", "z", "rx", "ry", "rz"))
             return {sides["xmax"].prescribe("x", 0.0): self.strain * self.gauge}
-        raise NotImplementedError("biaxial tension: not yet available")
+        # each yarn end follows the homogeneous stretch about the centre
+        ends = np.vstack([self.sample.end_positions(side) for side in self.sides])
+        centre = 0.5 * (ends.min(axis=0) + ends.max(axis=0))
+        strain = np.array([self.strain, self.ratio * self.strain])
+        targets = {}
+        for side, bodies in self.sample.yarn_bodies.items():
+            for k, body in bodies.items():
+                x = self.sample.end_positions(side, yarn=k).mean(axis=0)
+                body.fix(("z", "rx", "ry", "rz"))
+                for axis, name in enumerate(("x", "y")):
+                    targets[body.prescribe(name, 0.0)] = strain[axis] * (x[axis] - centre[axis])
+        return targets
 
     def measure(self, s: float):
         force = self.sample.side_reaction("xmax")
-        return s * self.strain, float(force[0]), {}
+        figures = {}
+        if self.ratio is not None:
+            figures["force on side ymax along y"] = float(self.sample.side_reaction("ymax")[1])
+            figures["strain along y"] = s * self.ratio * self.strain
+        return s * self.strain, float(force[0]), figures
 
     def summarize(self, result) -> dict:
         width = self.sample.side_width("x")
-        return {"membrane stiffness (force per width per strain)":
-                result.curve.initial_slope() / width,
-                "width": width, "gauge length": self.gauge}
+        out = {"membrane stiffness (force per width per strain)":
+               result.curve.initial_slope() / width,
+               "width": width, "gauge length": self.gauge}
+        if self.ratio is not None:
+            out["weft force per width at the end"] = \
+                result.steps[-1]["force on side ymax along y"] / self.sample.side_width("y")
+        return out

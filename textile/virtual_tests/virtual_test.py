@@ -134,6 +134,7 @@ class VirtualTest:
     #: sides with a body, and those of them pinned (not clamped)
     sides: tuple = ("xmin", "xmax")
     pins: tuple = ()
+    split: tuple = ()
 
     def __init__(self, fabric: Fabric, woven: str, steps: int = 10, matrix: Material | None = None,
                  composite: dict | None = None, contact=None, release_steps: int = 0,
@@ -153,6 +154,7 @@ class VirtualTest:
                 raise ValueError(f"{type(self).__name__}: composite options {composite!r} "
                                  f"without a matrix")
             self.sample = Sample(fabric, str(woven), sides=self.sides, pins=self.pins,
+                                 split=self.split,
                                  contact=contact, comm=comm)
         else:
             if self.pins:

@@ -1,0 +1,169 @@
+"""Virtual tests on a woven fabric alone (textile.virtual_tests): tension
+(uniaxial, biaxial), the paper's shear, bending and twisting, on a 2 x 2
+plain weave of monofilaments 6 yarn widths apart, woven once and saved.
+
+Physical checks: the side bodies' forces balance; the tension curve
+stiffens as the yarns lose their crimp and stays below the straight yarns'
+stiffness; crimp interchange in biaxial tension; the shear curve reversed
+is its mirror; the bending and twisting moments grow monotonically.
+Newton counts are guarded (+50% of the measured ones, as the stability
+suite does).
+"""
+import math
+
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+import textile
+from textile.fabric import Fabric
+from textile.virtual_tests import Bending, Shear, Tension, Twisting
+from textile.weaving import Weaving
+from textile.yarn import Yarn
+
+R = 0.1e-3
+FIBRE = textile.Material(5.0e9, 0.35)
+EA = FIBRE.young * math.pi * R ** 2
+QUIET = dict(verbose=False)
+#: force balance of the side bodies: the Newton tolerance's level (measured
+#: 1e-15 of the largest body force)
+BALANCE = 1e-6
+
+
+def fabric():
+    yarn = Yarn(1, R, FIBRE)
+    return Fabric(yarn, num_warp=2, num_weft=2, spacing=6 * yarn.width, pattern="plain",
+                  elements_per_crossing=4)
+
+
+def woven_state(path):
+    woven_fabric = fabric()
+    weaving = Weaving(woven_fabric, comm=MPI.COMM_SELF)
+    weaving.run(solver_options=QUIET)
+    textile.save_state(weaving.model, path, fibre_data={"yarn": woven_fabric.fibre_yarn})
+
+
+@pytest.fixture(scope="module")
+def woven(tmp_path_factory):
+    """The woven state, saved (woven on this rank alone)."""
+    path = str(tmp_path_factory.mktemp("woven") / "woven.h5")
+    woven_state(path)
+    return path
+
+
+def increments(result):
+    x, y = result.curve.arrays()
+    return x - x[0], y - y[0]
+
+
+def newton(result) -> int:
+    return int(result.counters["newton_iterations"])
+
+
+def test_uniaxial_tension(woven, tmp_path):
+    """Warp yarns pulled by 1%: the force rises with a tangent that grows as
+    the crimp is pulled out, below the straight yarns' 2 E A per unit
+    strain; files written; forces balance."""
+    result = Tension(fabric(), woven, 0.01, steps=4, comm=MPI.COMM_SELF,
+                     output=str(tmp_path)).run()
+    x, y = increments(result)
+    assert len(x) == 5 and np.all(np.diff(y) > 0)
+    slope = np.diff(y) / np.diff(x)
+    # de-crimping stiffens the fabric (measured 0.53 -> 0.62 of 2 E A)
+    assert np.all(np.diff(slope) > 0)
+    # crimped yarns are softer than straight ones: 2 E A is the bound
+    # (measured 0.53 of it at small strain)
+    assert 0.2 * 2 * EA < slope[0] < 2 * EA
+    assert result.force_balance < BALANCE
+    for name in ("tension.csv", "tension.png", "tension.json", "tension_fibres.txt",
+                 "results.json", "fibres.pvd"):
+        assert (tmp_path / name).exists(), name
+    assert "membrane stiffness (force per width per strain)" in result.figures
+    # 68 measured (16 a step and the settling: the contact loop settles friction)
+    assert newton(result) <= 1.5 * 68
+
+
+def test_biaxial_crimp_interchange(woven):
+    """Stretching the weft too makes the warp stiffer (crimp interchange):
+    the warp's membrane stiffness rises with the weft/warp strain ratio."""
+    stiffness = []
+    for ratio in (0.0, 0.5, 1.0):
+        result = Tension(fabric(), woven, 0.01, ratio=ratio, steps=2, comm=MPI.COMM_SELF).run()
+        assert result.force_balance < BALANCE
+        stiffness.append(result.figures["membrane stiffness (force per width per strain)"])
+    # measured 9.35e4 (ratio 0), 1.03e5 (0.5), 1.12e5 (1) N/m
+    assert stiffness[0] < stiffness[1] < stiffness[2]
+
+
+def test_shear_reversed_is_the_mirror_curve(woven):
+    """The paper's shear one way and the other: on a balanced plain weave
+    the force increments are opposite within 2% (measured 3.5e-4)."""
+    L = fabric().spacing[0]
+    plus = Shear(fabric(), woven, 0.2 * L, steps=5, comm=MPI.COMM_SELF).run()
+    minus = Shear(fabric(), woven, -0.2 * L, steps=5, comm=MPI.COMM_SELF).run()
+    xp, yp = increments(plus)
+    xm, ym = increments(minus)
+    assert np.allclose(xp, -xm, rtol=0, atol=1e-12)
+    assert np.all(np.diff(yp) > 0)
+    assert np.abs(yp[1:] + ym[1:]).max() < 0.02 * np.abs(yp[1:]).max()
+    assert max(plus.force_balance, minus.force_balance) < BALANCE
+    assert plus.figures["shear stiffness (force per width per radian)"] > 0
+    # 101 measured (12 to 30 a step)
+    assert newton(plus) <= 1.5 * 101
+
+
+def test_bending_moment_grows_with_the_angle(woven):
+    """Opposite rotations of the warp ends about y, 10 degrees in 4 steps:
+    the moment grows monotonically (the fabric is not a mechanism)."""
+    result = Bending(fabric(), woven, math.radians(10.0), steps=4, comm=MPI.COMM_SELF).run()
+    x, y = increments(result)
+    assert np.all(np.diff(x) > 0) and np.all(np.diff(y) > 0)
+    assert result.force_balance < BALANCE
+    # 205 measured (43 to 62 a step: contacts slide as the crossings turn)
+    assert newton(result) <= 1.5 * 205
+
+
+def test_twisting_moment_grows_with_the_angle(woven):
+    """Opposite rotations of the warp ends about x, 10 degrees in 4 steps."""
+    result = Twisting(fabric(), woven, math.radians(10.0), steps=4, comm=MPI.COMM_SELF).run()
+    x, y = increments(result)
+    assert np.all(np.diff(y) > 0)
+    assert result.force_balance < BALANCE
+    assert result.figures["stiffness (moment per unit curvature)"] > 0
+    # 84 measured (20 a step)
+    assert newton(result) <= 1.5 * 84
+
+
+def test_bad_input(woven):
+    with pytest.raises(ValueError, match="strain"):
+        Tension(fabric(), woven, 0.0, comm=MPI.COMM_SELF)
+    with pytest.raises(ValueError, match="displacement"):
+        Shear(fabric(), woven, float("nan"), comm=MPI.COMM_SELF)
+    with pytest.raises(ValueError, match="angle"):
+        Bending(fabric(), woven, 0.0, comm=MPI.COMM_SELF)
+    with pytest.raises(ValueError, match="steps"):
+        Twisting(fabric(), woven, 0.1, steps=0, comm=MPI.COMM_SELF)
+    with pytest.raises(TypeError, match="woven"):
+        Shear(fabric(), None, 1e-4, comm=MPI.COMM_SELF)
+
+
+@pytest.fixture(scope="module")
+def woven_mpi(tmp_path_factory):
+    """The woven state written once (rank 0) and read by every rank."""
+    comm = MPI.COMM_WORLD
+    path = str(tmp_path_factory.mktemp("woven") / "woven.h5") if comm.rank == 0 else None
+    path = comm.bcast(path, root=0)
+    if comm.rank == 0:
+        woven_state(path)
+    comm.Barrier()
+    return path
+
+
+@pytest.mark.mpi
+def test_parallel_equals_serial(woven_mpi):
+    """The shear curve on all ranks equals the one-rank curve (1e-8)."""
+    L = fabric().spacing[0]
+    serial = Shear(fabric(), woven_mpi, 0.1 * L, steps=2, comm=MPI.COMM_SELF).run()
+    parallel = Shear(fabric(), woven_mpi, 0.1 * L, steps=2, comm=MPI.COMM_WORLD).run()
+    ys, yp = np.array(serial.curve.y), np.array(parallel.curve.y)
+    assert np.abs(ys - yp).max() < 1e-8 * np.abs(ys).max()
