@@ -22,6 +22,11 @@ CASES = [
                                                     "results.json"]),
     ("demo_composite_bending.py", ["--fibres", "1", "--spacing", "6", "--steps", "2"],
      ["scene.pvd", "moment_rotation.png", "moment_rotation.csv", "results.json", "woven.h5"]),
+    ("demo_fabric_shear.py", ["--fibres", "1", "--spacing", "6", "--steps", "2"],
+     ["shear.png", "positive/shear.csv", "negative/shear.json", "positive/results.json",
+      "woven.h5"]),
+    ("demo_fabric_tension.py", ["--fibres", "1", "--spacing", "6", "--steps", "2"],
+     ["tension.png", "uniaxial/tension.csv", "uniaxial/results.json", "woven.h5"]),
     ("render_weave_start.py", [], ["sample.png", "sample_top.png", "cut_warp.png",
                                    "cut_weft.png"]),
 ]
@@ -42,6 +47,6 @@ def test_demo_runs(name, args, outputs, tmp_path_factory):
     if comm.rank == 0:
         for f in outputs:
             assert os.path.getsize(os.path.join(out, f)) > 0, f
-        if "results.json" in outputs:  # the demo solved something
-            results = json.load(open(os.path.join(out, "results.json")))
+        for f in [f for f in outputs if f.endswith("results.json")]:  # it solved something
+            results = json.load(open(os.path.join(out, f)))
             assert results["steps"] and "failure" not in results["meta"]

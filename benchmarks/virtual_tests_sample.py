@@ -1,0 +1,173 @@
+"""The paper's virtual tests on its 336-fibre sample (METHOD.md section 8).
+
+Starts from the woven state ``weave_sample.py`` saved (6 x 6 flat yarns of
+28 fibres, plain weave, 2 yarn widths apart; give ``--woven`` for another)
+and runs
+
+- **shear** (the paper's set-up, no matrix): 30 steps; side xmax moved along
+  y by ``--shear`` yarn spacings;
+- **bending** and **twisting** (with matrix): 15 steps each, opposite
+  rotations of sides xmin and xmax by ``--angle`` degrees in all;
+
+printing per step the wall time and Newton iterations beside the paper's
+figures (6 processors: about 2 h a step without matrix, 3 h with it; 30-40
+global iterations a step), and where the time goes: contact detection
+(FibreContact.prepare/update), assembly per effect (residual and tangent),
+factorizations and solves (PETSc's event log), the rest. Written to
+``output/virtual_tests_sample.json`` after every test (a long run stopped
+later keeps the finished tests).
+
+    mpirun -n 2 .venv/bin/python benchmarks/virtual_tests_sample.py
+        [--tests shear bending twisting] [--steps-shear 30] [--steps-rotation 15]
+        [--solver '{"low_rank_tolerance": 1e-8}']
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import resource
+import time
+
+from mpi4py import MPI
+
+import textile
+from textile import runtime
+from textile.effects.fibre_contact import FibreContact
+from textile.fabric import Fabric
+from textile.virtual_tests import Bending, Shear, Twisting
+from textile.yarn import Yarn
+
+OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "output")
+R = 0.1e-3
+FIBRE = textile.Material(5.0e9, 0.35)    # as weave_sample.py
+MATRIX = textile.Material(3.0e9, 0.35)   # an epoxy
+PAPER = {"shear": dict(hours_per_step=2.0, steps=30, newton_per_step="30-40"),
+         "bending": dict(hours_per_step=3.0, steps=15, newton_per_step="30-40"),
+         "twisting": dict(hours_per_step=3.0, steps=15, newton_per_step="30-40")}
+
+
+class DetectionClock:
+    """Wall time spent in FibreContact.prepare and update (detection)."""
+
+    def __init__(self):
+        self.seconds = 0.0
+        self._originals = {}
+
+    def __enter__(self):
+        for name in ("prepare", "update"):
+            original = getattr(FibreContact, name)
+            self._originals[name] = original
+
+            def timed(effect, *args, _original=original, **kwargs):
+                t0 = time.perf_counter()
+                try:
+                    return _original(effect, *args, **kwargs)
+                finally:
+                    self.seconds += time.perf_counter() - t0
+            setattr(FibreContact, name, timed)
+        return self
+
+    def __exit__(self, *exc):
+        for name, original in self._originals.items():
+            setattr(FibreContact, name, original)
+
+
+def run_test(name: str, fabric, woven: str, steps: int, args, comm) -> dict:
+    L = fabric.spacing[0]
+    options = dict(steps=steps, solver_options=dict(args.solver, verbose=comm.rank == 0),
+                   comm=comm)
+    if name == "shear":
+        test = Shear(fabric, woven, args.shear * L, **options)
+    else:
+        kind = Bending if name == "bending" else Twisting
+        test = kind(fabric, woven, math.radians(args.angle), matrix=MATRIX,
+                    composite=dict(size=args.matrix_size * R), release_steps=2, **options)
+    model = test.sample.model
+    error = ""
+    with DetectionClock() as detection:
+        t0 = time.perf_counter()
+        try:
+            result = test.run()
+        except textile.ConvergenceError as e:
+            error, result = str(e), None
+        wall = time.perf_counter() - t0
+    assembly = {f"{effect} {kind}": seconds
+                for (effect, kind), seconds in sorted(model.effect_seconds.items())}
+    out = dict(test=name, steps_asked=steps, unknowns=int(model.A.getSize()[0]),
+               fibres=len(model.mesh.fibres), wall_seconds=wall, error=error,
+               paper=PAPER[name], detection_seconds=detection.seconds,
+               assembly_seconds=assembly)
+    if result is not None:
+        c = result.counters
+        steps_out = [dict(step=s["step"], load_factor=s["load_factor"],
+                          newton_iterations=s["newton_iterations"], attempts=s["attempts"],
+                          wall_seconds=s["wall_seconds"], x=s["x"], y=s["y"],
+                          force_balance=s["force_balance"]) for s in result.steps]
+        out.update(curve=dict(x=result.curve.x, y=result.curve.y, xlabel=result.curve.xlabel,
+                              ylabel=result.curve.ylabel),
+                   figures=result.figures, steps=steps_out, counters=c,
+                   factorization_seconds=c["factorization_seconds"],
+                   solve_seconds=c["linear_solves_seconds"],
+                   newton_iterations=c["newton_iterations"],
+                   newton_per_step=c["newton_iterations"] / max(len(steps_out), 1))
+        if comm.rank == 0:
+            result.write(os.path.join(OUT, f"virtual_tests_sample_{name}"))
+    return out
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--woven", default=os.path.join(OUT, "weave_sample_plain.h5"))
+    parser.add_argument("--tests", nargs="+", default=["shear", "bending", "twisting"])
+    parser.add_argument("--fibres", type=int, default=28)
+    parser.add_argument("--yarns", type=int, default=6)
+    parser.add_argument("--elements", type=int, default=4)
+    parser.add_argument("--spacing", type=float, default=2.0, help="in yarn widths")
+    parser.add_argument("--steps-shear", type=int, default=30)
+    parser.add_argument("--steps-rotation", type=int, default=15)
+    parser.add_argument("--shear", type=float, default=0.2,
+                        help="shear displacement of side xmax, in yarn spacings")
+    parser.add_argument("--angle", type=float, default=10.0,
+                        help="bending / twist angle in all (degrees)")
+    parser.add_argument("--matrix-size", type=float, default=8.0,
+                        help="matrix element size in fibre radii")
+    parser.add_argument("--solver", type=json.loads, default={"low_rank_tolerance": 1e-8})
+    args = parser.parse_args()
+    comm = MPI.COMM_WORLD
+    if comm.rank == 0:
+        print(runtime.describe())
+    if not os.path.exists(args.woven):
+        raise SystemExit(f"{args.woven}: no woven state; run weave_sample.py first")
+    yarn = Yarn(args.fibres, R, FIBRE, packing="layers 1")
+    fabric = Fabric(yarn, num_warp=args.yarns, num_weft=args.yarns,
+                    spacing=args.spacing * yarn.width, pattern="plain",
+                    elements_per_crossing=args.elements)
+    path = os.path.join(OUT, "virtual_tests_sample.json")
+    results = dict(machine=runtime.describe(), ranks=comm.size, date=time.strftime("%Y-%m-%d"),
+                   woven=args.woven, tests=[])
+    for name in args.tests:
+        steps = args.steps_shear if name == "shear" else args.steps_rotation
+        out = run_test(name, fabric, args.woven, steps, args, comm)
+        out["peak_rss_mib_rank0"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+        results["tests"].append(out)
+        if comm.rank == 0:
+            paper = PAPER[name]
+            print(f"\n{name}: {out['wall_seconds']:.0f} s for {len(out.get('steps', []))} of "
+                  f"{steps} steps ({out['unknowns']} unknowns){' FAILED: ' + out['error'] if out['error'] else ''}")
+            for s in out.get("steps", []):
+                print(f"  step {s['step']:3d}  newton {s['newton_iterations']:3d}  "
+                      f"{s['wall_seconds']:7.1f} s   (paper: ~{paper['hours_per_step']:.0f} h, "
+                      f"{paper['newton_per_step']} iterations)")
+            print(f"  detection {out['detection_seconds']:.0f} s, factorizations "
+                  f"{out.get('factorization_seconds', 0):.0f} s, solves "
+                  f"{out.get('solve_seconds', 0):.0f} s, assembly "
+                  f"{sum(out['assembly_seconds'].values()):.0f} s")
+            os.makedirs(OUT, exist_ok=True)
+            with open(path, "w") as f:
+                json.dump(results, f, indent=1, default=float)
+
+
+if __name__ == "__main__":
+    main()
