@@ -202,7 +202,7 @@ class VirtualTest:
                 float(np.linalg.norm(total[3:6]) / m) if m > 0 else 0.0)
 
     def run(self) -> VirtualTestResult:
-        """Release, then load step by step; the result (collective)."""
+        """Release (or settle), then load step by step; the result (collective)."""
         targets = self.drive()
         stages = [Stage(self.name, ramp=targets,
                         solver=dict(initial_step=1.0 / self.steps, max_step=1.0 / self.steps))]
@@ -210,13 +210,13 @@ class VirtualTest:
         # only settles the loaded woven state with this test's contact
         # options: the curve starts where it ends
         stages.insert(0, self.sample.release_stage(self.release_steps) if self.release_steps
-                      else Stage("release", solver=dict(initial_step=1.0, max_step=1.0)))
+                      else Stage("settle", solver=dict(initial_step=1.0, max_step=1.0)))
         curve = LoadCurve(self.xlabel, self.ylabel, title=f"{self.name} of the woven sample")
         result = VirtualTestResult(self.name, curve,
                                    fibre_yarn=np.asarray(self.sample.fabric.fibre_yarn))
 
         def record(solver, rec):
-            if rec.stage == "release":
+            if rec.stage != self.name:   # the release or settling stage
                 if rec.load_factor < 1.0:
                     return
                 s = 0.0
@@ -224,7 +224,7 @@ class VirtualTest:
                 s = rec.load_factor
             x, y, figures = self.measure(s)
             curve.add(x, y)
-            if rec.stage != "release":
+            if rec.stage == self.name:
                 force_balance, moment_balance = self.balance()
                 loads = fibre_loads(self.sample.model)
                 top = int(loads["most_loaded"][0])
