@@ -45,7 +45,7 @@ from mpi4py import MPI
 import textile
 from textile.fabric import Fabric
 from textile.virtual_tests import LoadCurve, Shear
-from textile.weaving import Weaving
+from textile.weaving import woven_state
 from textile.yarn import Yarn
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -68,12 +68,7 @@ fabric = Fabric(yarn, num_warp=2, num_weft=2, spacing=args.spacing * yarn.width,
                 pattern="plain", elements_per_crossing=4)
 
 # 1. The woven state: weave now unless a saved one is given.
-woven = args.woven
-if woven is None:
-    woven = os.path.join(args.output, "woven.h5")
-    weaving = Weaving(fabric, comm=comm)
-    weaving.run()
-    textile.save_state(weaving.model, woven, fibre_data={"yarn": fabric.fibre_yarn})
+woven = args.woven or woven_state(fabric, os.path.join(args.output, "woven.h5"), comm=comm)
 
 # 2. Shear one way, then the other, each from the woven state.
 u = args.shear * fabric.spacing[0]

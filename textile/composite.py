@@ -61,10 +61,8 @@ class Composite(Sample):
 
     Parameters
     ----------
-    fabric:
-        The :class:`~textile.fabric.Fabric` (the same as the weaving run's).
-    woven:
-        Path of a saved woven state of that fabric, or None (straight yarns).
+    fabric, woven, contact, comm:
+        As :class:`~textile.sample.Sample`'s.
     matrix:
         The matrix's :class:`~textile.material.Material` (Young's modulus,
         Poisson ratio).
@@ -88,11 +86,6 @@ class Composite(Sample):
         Names of the sides that get a rigid body (among xmin, xmax, ymin,
         ymax). A matrix edge node shared by two bodies would be held twice:
         drive two opposite sides, or give all four and let them slide.
-    contact:
-        :class:`~textile.effects.fibre_contact.ContactOptions` or a dict, or
-        False for no fibre-fibre contact.
-    comm:
-        MPI communicator.
     """
 
     def __init__(self, fabric: Fabric, woven: str | None, matrix: Material,

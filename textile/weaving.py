@@ -39,6 +39,7 @@ from .effects.fibre_contact import FibreContact
 from .effects.weaving_contact import weaving_mode
 from .fabric import Fabric
 from .io import fabric_labels
+from .io.state_file import save_state
 from .loading import Stage
 from .model import Model
 from .output import Output
@@ -144,3 +145,15 @@ class Weaving:
         out["max penetration / radius"] = stats.get("max_penetration_over_radius", 0.0)
         out["contact elements"] = stats.get("contact_elements", 0)
         return out
+
+
+def woven_state(fabric: Fabric, path: str, solver_options=None, comm=MPI.COMM_WORLD,
+                **weaving_options) -> str:
+    """Weave ``fabric`` (:class:`Weaving` with ``weaving_options``) and save
+    the woven state to ``path`` (:func:`textile.save_state`, with each
+    fibre's yarn), the start of composites and virtual tests; returns
+    ``path``. Collective."""
+    weaving = Weaving(fabric, comm=comm, **weaving_options)
+    weaving.run(solver_options=solver_options)
+    save_state(weaving.model, path, fibre_data={"yarn": fabric.fibre_yarn})
+    return path

@@ -17,8 +17,9 @@ import textile
 from textile.composite import Composite
 from textile.fabric import Fabric
 from textile.fabric_measures import crossing_separation
-from textile.weaving import Weaving
 from textile.yarn import Yarn
+
+from tests.woven_states import woven_once
 
 R = 0.1e-3
 FIBRE = textile.Material(5.0e9, 0.35)
@@ -35,12 +36,8 @@ def fabric():
 
 @pytest.fixture(scope="module")
 def woven(tmp_path_factory):
-    """The woven state, saved (woven on this rank alone)."""
-    path = str(tmp_path_factory.mktemp("woven") / "woven.h5")
-    weaving = Weaving(fabric(), comm=MPI.COMM_SELF)
-    weaving.run(solver_options=QUIET)
-    textile.save_state(weaving.model, path)
-    return path
+    """The woven state, saved."""
+    return woven_once(tmp_path_factory, fabric(), QUIET)
 
 
 def bend(woven, comm, steps=3):
@@ -125,12 +122,4 @@ def test_parallel_equals_serial(woven_mpi):
 @pytest.fixture(scope="module")
 def woven_mpi(tmp_path_factory):
     """The woven state written once (rank 0) and read by every rank."""
-    comm = MPI.COMM_WORLD
-    path = str(tmp_path_factory.mktemp("woven") / "woven.h5") if comm.rank == 0 else None
-    path = comm.bcast(path, root=0)
-    if comm.rank == 0:
-        weaving = Weaving(fabric(), comm=MPI.COMM_SELF)
-        weaving.run(solver_options=QUIET)
-        textile.save_state(weaving.model, path)
-    comm.Barrier()
-    return path
+    return woven_once(tmp_path_factory, fabric(), QUIET)

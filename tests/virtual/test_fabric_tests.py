@@ -18,8 +18,9 @@ from mpi4py import MPI
 import textile
 from textile.fabric import Fabric
 from textile.virtual_tests import Bending, Shear, Tension, Twisting
-from textile.weaving import Weaving
 from textile.yarn import Yarn
+
+from tests.woven_states import woven_once
 
 R = 0.1e-3
 FIBRE = textile.Material(5.0e9, 0.35)
@@ -36,19 +37,10 @@ def fabric():
                   elements_per_crossing=4)
 
 
-def woven_state(path):
-    woven_fabric = fabric()
-    weaving = Weaving(woven_fabric, comm=MPI.COMM_SELF)
-    weaving.run(solver_options=QUIET)
-    textile.save_state(weaving.model, path, fibre_data={"yarn": woven_fabric.fibre_yarn})
-
-
 @pytest.fixture(scope="module")
 def woven(tmp_path_factory):
-    """The woven state, saved (woven on this rank alone)."""
-    path = str(tmp_path_factory.mktemp("woven") / "woven.h5")
-    woven_state(path)
-    return path
+    """The woven state, saved."""
+    return woven_once(tmp_path_factory, fabric(), QUIET)
 
 
 def increments(result):
@@ -150,13 +142,7 @@ def test_bad_input(woven):
 @pytest.fixture(scope="module")
 def woven_mpi(tmp_path_factory):
     """The woven state written once (rank 0) and read by every rank."""
-    comm = MPI.COMM_WORLD
-    path = str(tmp_path_factory.mktemp("woven") / "woven.h5") if comm.rank == 0 else None
-    path = comm.bcast(path, root=0)
-    if comm.rank == 0:
-        woven_state(path)
-    comm.Barrier()
-    return path
+    return woven_once(tmp_path_factory, fabric(), QUIET)
 
 
 @pytest.mark.mpi
