@@ -12,7 +12,9 @@ woven first (or read from ``--woven``), then pulled along the warp (x) to
 2. **biaxial**, weft strain ``ratio`` times the warp strain (``--ratios``,
    default 0, 0.5 and 1): every yarn end clamped by a body of its own,
    all moved with the homogeneous stretch of the sample (a multi-clamp
-   rig: the yarn ends of a side spread as the other direction stretches).
+   rig: the yarn ends of a side spread as the other direction stretches);
+3. **shear** as in the paper (:class:`textile.virtual_tests.Shear`), for the
+   in-plane shear stiffness.
 
 Woven yarns are crimped: pulled, a yarn first straightens, pressing the
 crossing yarns of the other direction into more crimp (crimp interchange).
@@ -24,7 +26,8 @@ stiffens as the crimp is pulled out, staying below the straight yarns'.
 What to look at
 ---------------
 - ``tension.png``: force on side xmax along x against the warp strain, one
-  curve per case; the printed table of membrane stiffnesses;
+  curve per case; the printed table of the effective membrane stiffnesses
+  (tensile per case, and shear);
 - per case (``uniaxial/``, ``biaxial_<ratio>/``): ``tension.csv``,
   ``tension.json`` (per step Newton iterations, force balance, most loaded
   fibre), ``fibres.pvd`` for ParaView, ``tension_fibres.txt``.
@@ -41,7 +44,7 @@ from mpi4py import MPI
 
 import textile
 from textile.fabric import Fabric
-from textile.virtual_tests import Tension
+from textile.virtual_tests import Shear, Tension, figures_table
 from textile.weaving import woven_state
 from textile.yarn import Yarn
 
@@ -69,7 +72,8 @@ fabric = Fabric(yarn, num_warp=2, num_weft=2, spacing=args.spacing * yarn.width,
 # 1. The woven state: weave now unless a saved one is given.
 woven = args.woven or woven_state(fabric, os.path.join(args.output, "woven.h5"), comm=comm)
 
-# 2. The cases, each from the woven state.
+# 2. The cases, each from the woven state; and the paper's shear test, for
+#    the in-plane shear stiffness beside the tensile ones.
 cases = [("uniaxial", None)] + [(f"biaxial_{r:g}", r) for r in args.ratios]
 results = {}
 for label, ratio in cases:
@@ -77,6 +81,8 @@ for label, ratio in cases:
                    solver_options=dict(verbose=comm.rank == 0),
                    output=os.path.join(args.output, label), comm=comm)
     results[label] = test.run()
+results["shear"] = Shear(fabric, woven, 0.1 * fabric.spacing[0], steps=args.steps,
+                         solver_options=dict(verbose=comm.rank == 0), comm=comm).run()
 
 # 3. The curves together and the membrane stiffnesses.
 if comm.rank == 0:
@@ -86,9 +92,8 @@ if comm.rank == 0:
     first.curve.write_png(os.path.join(args.output, "tension.png"), others=others,
                           labels=["uniaxial"] + [f"biaxial, weft/warp strain {r:g}"
                                                  for _, r in cases[1:]])
-    straight = 2 * args.fibres * fibre.young * math.pi * R ** 2 / (2 * fabric.spacing[0])
-    print(f"\n{'case':>14}  membrane stiffness [N/m]  (straight warp yarns: {straight:.4g})")
-    for label, _ in cases:
-        k = results[label].figures["membrane stiffness (force per width per strain)"]
-        print(f"{label:>14}  {k:24.4g}")
+    # the effective membrane stiffnesses (N/m; shear: N/m per radian) from the
+    # small-strain part of each curve, beside the straight warp yarns' E A / p
+    straight = args.fibres * fibre.young * math.pi * R ** 2 / fabric.spacing[0]
+    print(f"\nstraight warp yarns: {straight:.4g} N/m\n" + figures_table(results))
     print(f"files in {args.output}: tension.png, " + ", ".join(f"{label}/" for label, _ in cases))

@@ -7,7 +7,7 @@ from .load_curve import LoadCurve
 from .shear import Shear
 from .tension import Tension
 from .twisting import Twisting
-from .virtual_test import VirtualTest, VirtualTestResult
+from .virtual_test import VirtualTest, VirtualTestResult, figures_table
 
 __all__ = ["Bending", "LoadCurve", "Shear", "Tension", "Twisting", "VirtualTest",
-           "VirtualTestResult"]
+           "VirtualTestResult", "figures_table"]

@@ -95,6 +95,22 @@ class VirtualTestResult:
         return paths + [path]
 
 
+def figures_table(results: dict) -> str:
+    """A printable table of the figures of several results ({label:
+    VirtualTestResult}): one row per label and figure, e.g. the membrane
+    stiffnesses of tension and shear tests side by side."""
+    rows = [(label, name, value) for label, r in results.items()
+            for name, value in r.figures.items()
+            if name not in ("width", "gauge length")]
+    w1 = max([len(r[0]) for r in rows] + [4])
+    w2 = max([len(r[1]) for r in rows] + [6])
+    lines = [f"{'test':<{w1}}  {'figure':<{w2}}  value"]
+    for label, name, value in rows:
+        text = "not reached" if value is None else f"{value:.4g}"
+        lines.append(f"{label:<{w1}}  {name:<{w2}}  {text}")
+    return "\n".join(lines)
+
+
 class VirtualTest:
     """A virtual test on a woven sample (module docstring).
 
