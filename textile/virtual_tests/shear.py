@@ -9,9 +9,10 @@ and ymax) are free.
 Curve: the force on the xmax body along y against the shear angle
 gamma = atan(u / L) (u its displacement, L the distance between the two
 sides), in degrees; figures: the small-angle shear stiffness (force per
-width, the warp yarn count times their spacing, per radian) and the angle
+width, the warp yarn count times their spacing, per radian), the angle
 where the tangent stiffness has risen tenfold (None when the computed
-range does not reach it).
+range does not reach it), and beside it the pin-joint locking bound
+arccos(w/p) (:func:`locking_bound`).
 """
 from __future__ import annotations
 
@@ -55,4 +56,15 @@ class Shear(VirtualTest):
         stiffness = result.curve.initial_slope() * 180.0 / math.pi
         return {"shear stiffness (force per width per radian)": stiffness / width,
                 "tenfold stiffening angle [deg]": result.curve.stiffening_point(10.0),
+                "pin-joint locking bound arccos(w/p) [deg]": locking_bound(self.sample.fabric),
                 "width": width, "gauge length": self.gauge}
+
+
+def locking_bound(fabric) -> float:
+    """The pin-joint bound of the shear locking angle, arccos(w/p) in
+    degrees (REFERENCES.md 12): the shear angle at which neighbouring
+    parallel yarns, of width w and spacing p, touch side to side (the
+    narrower of the two directions' bounds)."""
+    ratios = [min(1.0, fabric.warp.width / fabric.spacing[0]),
+              min(1.0, fabric.weft.width / fabric.spacing[1])]
+    return math.degrees(math.acos(max(ratios)))
