@@ -21,7 +21,10 @@ CASES = [
     ("demo_twisted_pair.py", ["--elements", "12"], ["fibres.pvd", "contacts.pvd",
                                                     "results.json"]),
     ("demo_composite_bending.py", ["--fibres", "1", "--spacing", "6", "--steps", "2"],
-     ["scene.pvd", "moment_rotation.png", "moment_rotation.csv", "results.json", "woven.h5"]),
+     ["scene.pvd", "bending.png", "bending.csv", "bending.json", "results.json", "woven.h5"]),
+    ("demo_composite_twisting.py", ["--fibres", "1", "--spacing", "6", "--steps", "2"],
+     ["scene.pvd", "twisting.png", "twisting.csv", "twisting.json", "results.json",
+      "woven.h5"]),
     ("render_weave_start.py", [], ["sample.png", "sample_top.png", "cut_warp.png",
                                    "cut_weft.png"]),
 ]
