@@ -4,7 +4,8 @@ What this demo shows
 --------------------
 The 2 x 2 plain weave of ``demo_plain_weave.py`` (yarns of 7 fibres side by
 side) is woven first (or read from a saved woven state, ``--woven``).
-Then a matrix is added around it (METHOD.md sections 6-7):
+Then the virtual bending test (``textile.virtual_tests.Bending`` with a
+matrix) adds a matrix around it (METHOD.md sections 6-7):
 
 1. **the matrix**: gmsh meshes a box around the woven fibres with
    tetrahedra a few fibre diameters across (not conforming to the fibres:
@@ -24,37 +25,47 @@ Then a matrix is added around it (METHOD.md sections 6-7):
 
 The composite is then bent by opposite rotations of the two side bodies
 about y (each turns by half the bending angle; ``xmax`` is free to move
-along x, so the sample is not stretched), after a first stage in which
-the forces that held the weft yarns' ends during weaving are let go. Fibres, contacts, junctions and
-matrix are one system, solved by one PETSc SNES (MUMPS), also under
-``mpirun -n 2``.
+along x, so the sample is not stretched), after a first stage (two steps)
+in which the forces that held the weft yarns' ends during weaving are let
+go: the matrix takes them. Fibres, contacts, junctions and matrix are one
+system, solved by one PETSc SNES (MUMPS), also under ``mpirun -n 2``.
+
+A positive angle bends the sample convex upwards: the fibres below its
+mid-plane are compressed. At every step the test follows the fibre pairs
+the contact found in proximity at the start of loading and reports the
+largest gap opening among those on the compressed side (voids between
+fibres, the paper's Fig. 15; ``textile.virtual_tests.voids``).
 
 What to look at
 ---------------
-- ``moment_rotation.png`` / ``moment_rotation.csv``: bending moment on the
-  ``xmax`` body against the bending angle;
+- ``bending.png`` / ``bending.csv``: bending moment on the ``xmax`` body
+  against the bending angle; ``bending.json``: per step the Newton
+  iterations, the reactions' balance, the most loaded fibre and the voids,
+  and the summary (bending stiffness); ``bending_fibres.txt``: the most
+  loaded fibres at the last step;
 - ``scene.pvd`` in ParaView: fibres and matrix of every step together
   (fibres: *Tube* filter on ``radius``, colour by ``yarn``; matrix:
   colour by ``von_mises`` or ``J``, and lower its opacity);
 - ``results.json``: per step the Newton iterations, the contact and
   junction figures, the smallest det F of the matrix.
 
+The moment is compared with the matrix plate bent cylindrically,
+E b h^3 / (12 (1 - nu^2)) theta / L (the fibres add their share).
+
 Run: ``python3 demos/demo_composite_bending.py [--output DIR] [--woven FILE]
-[--fibres N] [--angle DEG] [--steps N] [--size H]`` (a minute or two on 2
-cores; ``--fibres 1 --spacing 6`` for a quick monofilament variant).
+[--fibres N] [--spacing S] [--angle DEG] [--steps N] [--size H] [--degree D]``
+(a minute or two on 2 cores; ``--fibres 1 --spacing 6`` for a quick
+monofilament variant).
 """
 import argparse
-import csv
 import math
 import os
 
-import numpy as np
 from mpi4py import MPI
 
 import textile
-from textile.composite import Composite
 from textile.fabric import Fabric
-from textile.io.plots import plot_curve
+from textile.virtual_tests import Bending
 from textile.weaving import Weaving
 from textile.yarn import Yarn
 
@@ -96,53 +107,39 @@ if woven is None:
         print(f"woven: {woven_summary['crossings in pattern order']} of "
               f"{woven_summary['crossings']} crossings in pattern order")
 
-# 2. The composite around it: matrix, junctions, side bodies.
-size = None if args.size is None else args.size * R
-composite = Composite(fabric, woven, matrix_material, size=size, degree=args.degree,
-                      sides=("xmin", "xmax"), comm=comm)
-left, right = composite.sides["xmin"], composite.sides["xmax"]
-left.fix(("x", "y", "z", "rx", "rz"))
-right.fix(("y", "z", "rx", "rz"))       # x free: the sample is not stretched
-left_turn = left.prescribe("ry", 0.0)
-right_turn = right.prescribe("ry", 0.0)
-half = math.radians(args.angle) / 2
-stages = [
-    # the weaving run's yarn-end bodies let go: the matrix takes the yarns' pre-stress
-    composite.release_stage(steps=2),
-    textile.Stage("bending", ramp={left_turn: -half, right_turn: half},
-                  solver=dict(initial_step=1.0 / args.steps, max_step=1.0 / args.steps)),
-]
+# 2. The test: the composite around the woven state (matrix, junctions,
+#    side bodies), its release (two steps), then the bending.
+size = 8.0 * R if args.size is None else args.size * R
+test = Bending(fabric, woven, math.radians(args.angle), steps=args.steps,
+               matrix=matrix_material, composite=dict(size=size, degree=args.degree),
+               release_steps=2, solver_options=dict(verbose=comm.rank == 0),
+               output=args.output, comm=comm)
+composite = test.sample
 stats = composite.junctions.statistics()   # collective
 if comm.rank == 0:
     print(f"matrix box {composite.corners[0]} .. {composite.corners[1]}; "
           f"{stats['junctions']} junctions ({stats['junctions_outside']} particles outside)")
 
-# 3. Bend, step by step; the moment on the xmax body against the angle.
-angles, moments = [], []
-
-
-def record(solver, rec):
-    if rec.stage == "bending":
-        angles.append(math.degrees(2 * half * rec.load_factor))
-        moments.append(float(composite.side_reaction("xmax")[4]))
-    elif rec.load_factor == 1.0:   # released: the curve starts here
-        angles.append(0.0)
-        moments.append(float(composite.side_reaction("xmax")[4]))
-
-
-output = composite.output(args.output)
-solver = textile.Solver(composite.model, dict(verbose=comm.rank == 0), output=output,
-                        on_step=record)
-solver.run(stages)
+# 3. Bend, step by step: the moment on the xmax body against the angle, and
+#    the voids on the compressed side.
+result = test.run()
 
 if comm.rank == 0:
-    with open(os.path.join(args.output, "moment_rotation.csv"), "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["bending angle [deg]", "moment My [N m]"])
-        w.writerows(zip(angles, moments))
-    plot_curve(os.path.join(args.output, "moment_rotation.png"), np.array(angles),
-               np.array(moments), "bending angle [deg]", "moment M_y on side xmax [N m]",
-               title="plain-weave composite in bending")
-    print(f"moment at {angles[-1]:.1f} deg: {moments[-1]:.4g} N m")
-    print(f"files in {args.output}: scene.pvd, moment_rotation.png, moment_rotation.csv, "
-          f"results.json, woven.h5")
+    length, width, thickness = composite.corners[1] - composite.corners[0]
+    nu = matrix_material.poisson
+    plate = matrix_material.young * width * thickness ** 3 / (12 * (1 - nu ** 2)) / length
+    print("angle [deg]  moment [N m]  (M - M0) / matrix plate  largest gap opening on the "
+          "compressed side [m] (fibres)")
+    m0 = result.curve.y[0]   # the moment the release left
+    for s in result.steps:
+        ratio = (s["y"] - m0) / (plate * math.radians(s["x"]))
+        opening = s.get("largest gap opening on the compressed side")
+        words = "-" if opening is None else \
+            f"{opening:.3e} {s['fibres of the largest gap opening']}"
+        print(f"{s['x']:11.3f}  {s['y']:12.5g}  {ratio:23.4f}  {words}")
+    stiffness = result.figures["bending stiffness per width (moment per width per unit "
+                               "curvature)"]
+    print(f"moment at {result.curve.x[-1]:.1f} deg: {result.curve.y[-1]:.4g} N m; bending "
+          f"stiffness per width {stiffness:.4g} N m; force balance {result.force_balance:.1e}")
+    print(f"files in {args.output}: scene.pvd, bending.png, bending.csv, bending.json, "
+          f"bending_fibres.txt, results.json" + ("" if args.woven else ", woven.h5"))

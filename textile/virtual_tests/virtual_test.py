@@ -133,7 +133,8 @@ class VirtualTest:
         such stage, the free yarn ends keep, as dead loads, the forces that
         held them in the woven state (the yarns' weaving tension): a small
         sample's yarns with free ends rest on a few crossings only and can
-        slide away once let go.
+        slide away once let go. Default (None): 2 with a matrix (the matrix
+        takes the yarns' weaving tension over), 0 without.
     solver_options:
         :class:`~textile.solver.SolverOptions` entries (tolerances, linear
         solver, verbose).
@@ -153,12 +154,14 @@ class VirtualTest:
     split: tuple = ()
 
     def __init__(self, fabric: Fabric, woven: str, steps: int = 10, matrix: Material | None = None,
-                 composite: dict | None = None, contact=None, release_steps: int = 0,
+                 composite: dict | None = None, contact=None, release_steps: int | None = None,
                  solver_options: dict | None = None, output: str | None = None,
                  comm=MPI.COMM_WORLD):
         if woven is None or not isinstance(woven, (str, os.PathLike)):
             raise TypeError(f"{type(self).__name__}: woven must be the path of a saved woven "
                             f"state (textile.save_state after a Weaving run), got {woven!r}")
+        if release_steps is None:
+            release_steps = 2 if matrix is not None else 0
         for label, v, low in (("steps", steps, 1), ("release_steps", release_steps, 0)):
             if isinstance(v, bool) or not isinstance(v, int) or v < low:
                 raise ValueError(f"{type(self).__name__}: {label} must be an integer >= {low}, "
@@ -227,7 +230,8 @@ class VirtualTest:
         # options: the curve starts where it ends
         stages.insert(0, self.sample.release_stage(self.release_steps) if self.release_steps
                       else Stage("settle", solver=dict(initial_step=1.0, max_step=1.0)))
-        curve = LoadCurve(self.xlabel, self.ylabel, title=f"{self.name} of the woven sample")
+        what = "composite" if isinstance(self.sample, Composite) else "woven sample"
+        curve = LoadCurve(self.xlabel, self.ylabel, title=f"{self.name} of the {what}")
         result = VirtualTestResult(self.name, curve,
                                    fibre_yarn=np.asarray(self.sample.fabric.fibre_yarn))
 
