@@ -74,7 +74,7 @@ class DetectionClock:
             setattr(FibreContact, name, original)
 
 
-def run_test(name: str, fabric, woven: str, steps: int, args, comm) -> dict:
+def run_test(name: str, fabric, woven: str, steps: int, args, comm, progress) -> dict:
     L = fabric.spacing[0]
     options = dict(steps=steps, solver_options=dict(args.solver, verbose=comm.rank == 0),
                    comm=comm)
@@ -86,6 +86,18 @@ def run_test(name: str, fabric, woven: str, steps: int, args, comm) -> dict:
                     composite=dict(size=args.matrix_size * R), release_steps=2, **options)
     model = test.sample.model
     error = ""
+    # every step's figures go to the JSON at once: a long run stopped later
+    # keeps what it did
+    started = time.perf_counter()
+    done = []
+
+    def on_step(solver, rec):
+        done.append(dict(step=rec.step, stage=rec.stage, load_factor=rec.load_factor,
+                         newton_iterations=rec.newton_iterations, attempts=rec.attempts,
+                         wall_seconds=rec.wall_time,
+                         elapsed_seconds=time.perf_counter() - started))
+        progress(dict(test=name, unfinished=True, steps_so_far=done))
+    test.on_step = on_step
     with DetectionClock() as detection:
         t0 = time.perf_counter()
         try:
@@ -149,7 +161,12 @@ def main():
                    woven=args.woven, tests=[])
     for name in args.tests:
         steps = args.steps_shear if name == "shear" else args.steps_rotation
-        out = run_test(name, fabric, args.woven, steps, args, comm)
+        def progress(partial, _done=list(results["tests"])):
+            if comm.rank == 0:
+                os.makedirs(OUT, exist_ok=True)
+                with open(path, "w") as f:
+                    json.dump(dict(results, tests=_done + [partial]), f, indent=1, default=float)
+        out = run_test(name, fabric, args.woven, steps, args, comm, progress)
         out["peak_rss_mib_rank0"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
         results["tests"].append(out)
         if comm.rank == 0:

@@ -152,6 +152,9 @@ class VirtualTest:
     sides: tuple = ("xmin", "xmax")
     pins: tuple = ()
     split: tuple = ()
+    #: called as on_step(solver, step record) after every converged step
+    #: (progress reports, partial results of long runs)
+    on_step = None
 
     def __init__(self, fabric: Fabric, woven: str, steps: int = 10, matrix: Material | None = None,
                  composite: dict | None = None, contact=None, release_steps: int | None = None,
@@ -255,6 +258,8 @@ class VirtualTest:
                     most_loaded_fibre=top,
                     **{k: float(loads[k][top]) for k in FIGURES}, **figures))
                 result.fibre_loads = loads
+            if self.on_step is not None:
+                self.on_step(solver, rec)
 
         output = self.sample.output(self.output_dir) if self.output_dir else None
         solver = Solver(self.sample.model, self.solver_options, output=output, on_step=record)
