@@ -106,7 +106,8 @@ result = frame.run()
 
 if comm.rank == 0:
     print()
-    print(f"{'frame angle':>12} {'fibres':>8} {'F':>11} {'F_s':>11} {'F_s L/L^2':>11}  [deg, N, N/m]")
+    print(f"{'frame angle':>12} {'fibres':>8} {'F':>11} {'F_s':>11} {'F_s L/L^2':>11}"
+          f"  [deg, deg, N, N, N/m]")
     print(f"{result.curve.x[0]:12.2f} {'':>8} {'':>11} {'':>11} {result.curve.y[0]:11.4g}")
     for s in result.steps:
         print(f"{s['x']:12.2f} {s['fibre_shear_angle']:8.2f} {s['pulling_force']:11.4g} "
@@ -116,8 +117,8 @@ if comm.rank == 0:
         print(f"{k}: {v}")
     lock = result.figures["locking angle [deg]"]
     bound = result.figures["pin-joint locking bound arccos(w/p) [deg]"]
-    print(f"locking angle: {'not reached by %.1f deg' % result.curve.x[-1] if lock is None else '%.1f deg' % lock}"
-          f"; pin-joint bound arccos(w/p) = {bound:.1f} deg")
+    reached = f"not reached by {result.curve.x[-1]:.1f} deg" if lock is None else f"{lock:.1f} deg"
+    print(f"locking angle: {reached}; pin-joint bound arccos(w/p) = {bound:.1f} deg")
     print(f"reaction balance: forces {result.force_balance:.2e}, moments "
           f"{result.moment_balance:.2e}")
     print()

@@ -118,8 +118,8 @@ def test_frame_kinematics(sheared):
             for side in pair:
                 u, phi = motion[side]
                 c = test.centres[side]
-                rot = np.array([[math.cos(phi), -math.sin(phi), 0], [math.sin(phi), math.cos(phi), 0],
-                                [0, 0, 1]])
+                cos, sin = math.cos(phi), math.sin(phi)
+                rot = np.array([[cos, -sin, 0], [sin, cos, 0], [0, 0, 1]])
                 at.append(c + u + rot @ (ref[name] - c))
             assert np.linalg.norm(at[0] - at[1]) < 1e-12 * L, (name, gamma)
     # C moves along the diagonal by d; the frame angle follows Cao et al.
@@ -155,7 +155,8 @@ def test_stiffening_against_spacing(sheared, tmp_path):
     figures = {}
     for label, test, result in (("4 widths", test4, tight), ("6 widths", test6, loose)):
         fig = result.figures
-        figures[label] = (fig["locking angle [deg]"], fig["pin-joint locking bound arccos(w/p) [deg]"],
+        figures[label] = (fig["locking angle [deg]"],
+                          fig["pin-joint locking bound arccos(w/p) [deg]"],
                           result.curve.stiffening_point(2.0))
         print(f"{label}: locking angle {fig['locking angle [deg]']}, pin-joint bound "
               f"{fig['pin-joint locking bound arccos(w/p) [deg]']:.1f} deg, tangent doubled at "
