@@ -13,7 +13,8 @@ The scene:
   xmax, weft yarns along y and end on ymin and ymax. A side body *clamps*
   the end sections of the yarns ending on its side (position and section
   directions follow the body), or only *pins* them (``pins``: positions
-  follow, the ends turn freely, as on the arms of a picture frame). Each
+  follow, the ends turn freely, as on the arms of a picture frame, but do
+  not spin about their own axis: :meth:`Sample._hold_spin`). Each
   body component is then prescribed or loaded by the caller
   (``sample.sides["xmax"].prescribe("y", u)``);
 - the yarn ends no side body holds were held, in the weaving run, by the
@@ -36,6 +37,7 @@ from __future__ import annotations
 
 import numpy as np
 from mpi4py import MPI
+from petsc4py import PETSc
 
 from . import fabric_measures
 from .effects.fibre_contact import FibreContact
@@ -147,6 +149,8 @@ class Sample:
                 self.model.add_rigid_body(body)
                 self.sides[side] = body
             held.update(ends)
+            if side in pins:
+                self._hold_spin(ends, configuration)
         # the yarn ends no body holds: what held them in the weaving run
         # (its yarn-end bodies) is replaced by loads, released over the
         # first stage (release_stage)
@@ -171,6 +175,24 @@ class Sample:
             if self.contact is not None:
                 self.contact.reset_friction(self.model)
             self._hold_free_ends()
+
+    def _hold_spin(self, ends, configuration: np.ndarray) -> None:
+        """A pinned fibre end turns freely, but a round fibre pinned at both
+        ends could then spin about its own centre line at no cost (its
+        bending energy does not change, and friction acts on the centre
+        lines): a zero-stiffness mode (Newton wanders, or fails with yarns
+        of several fibres). Hold the out-of-plane component g1z of each
+        pinned end's section vector g1 (across the yarn, in the fabric
+        plane; a support fixed in space, outside the side body's reaction)
+        at its woven value: the end can no longer spin, and stays free to
+        turn about z (the pin's axis) and to tilt about g1. (Once the end
+        has tilted, bending about its own tilted g2 needs a little spin
+        too, so that bending is somewhat restrained: an end on a vertical
+        pin.)"""
+        mesh = self.model.mesh
+        for f, k in ends:
+            g = mesh.node(f, k)
+            self.model.fix(f, k, "g1z", configuration[g, 5] - mesh.X_global[g, 5])
 
     # -- hooks of a sample with a matrix (Composite) --------------------------
     def _add_matrix(self, configuration: np.ndarray) -> None:
@@ -230,6 +252,8 @@ class Sample:
         dg = dtheta x g)."""
         model, mesh = self.model, self.model.mesh
         b = model.x.duplicate()
+        # as the model's own residual vector: constrained rows (index -1) skipped
+        b.setOption(PETSc.Vec.Option.IGNORE_NEGATIVE_INDICES, True)
         model.residual(None, model.x, b)
         r = b.getArray(readonly=True)
         imbalance = np.zeros((len(self._free_ends), 9))

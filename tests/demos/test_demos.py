@@ -30,6 +30,9 @@ CASES = [
       "woven.h5"]),
     ("demo_fabric_tension.py", ["--fibres", "1", "--spacing", "6", "--steps", "2"],
      ["tension.png", "uniaxial/tension.csv", "uniaxial/results.json", "woven.h5"]),
+    ("demo_picture_frame.py", ["--fibres", "1", "--spacing", "6", "--angle", "15", "--steps", "3"],
+     ["picture_frame.csv", "picture_frame.png", "picture_frame.json", "fibres.pvd",
+      "results.json", "woven.h5"]),
     ("render_weave_start.py", [], ["sample.png", "sample_top.png", "cut_warp.png",
                                    "cut_weft.png"]),
 ]

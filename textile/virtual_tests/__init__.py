@@ -4,10 +4,11 @@ twisting, each driven by side rigid bodies from a saved woven state, with a
 load curve (CSV, PNG), ParaView output per step and the test's figures."""
 from .bending import Bending
 from .load_curve import LoadCurve
+from .picture_frame import PictureFrame
 from .shear import Shear
 from .tension import Tension
 from .twisting import Twisting
 from .virtual_test import VirtualTest, VirtualTestResult, figures_table
 
-__all__ = ["Bending", "LoadCurve", "Shear", "Tension", "Twisting", "VirtualTest",
+__all__ = ["Bending", "LoadCurve", "PictureFrame", "Shear", "Tension", "Twisting", "VirtualTest",
            "VirtualTestResult", "figures_table"]
