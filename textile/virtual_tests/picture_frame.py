@@ -70,6 +70,7 @@ import numbers
 
 import numpy as np
 
+from .shear import locking_bound
 from .virtual_test import VirtualTest
 
 #: the frame's arms: the hinge corner each body's kinematics is built from
@@ -162,7 +163,7 @@ class PictureFrame(VirtualTest):
         #: the yarn width w (the wider of warp and weft)
         self.yarn_width = float(max(fabric.warp.width, fabric.weft.width))
         #: the pin-joint locking bound arccos(w / p) (radians)
-        self.lock_bound = math.acos(self.yarn_width / fabric.spacing[0])
+        self.lock_bound = math.radians(locking_bound(fabric))
 
     # -- the frame's kinematics ---------------------------------------------------
     def shear_angle(self, d: float) -> float:
