@@ -66,7 +66,7 @@ from mpi4py import MPI
 import textile
 from textile.fabric import Fabric
 from textile.virtual_tests import Bending
-from textile.weaving import Weaving
+from textile.weaving import woven_state
 from textile.yarn import Yarn
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -96,16 +96,7 @@ fabric = Fabric(yarn, num_warp=2, num_weft=2, spacing=args.spacing * yarn.width,
                 pattern="plain", elements_per_crossing=4)
 
 # 1. The woven state: weave now unless a saved one is given.
-woven = args.woven
-if woven is None:
-    woven = os.path.join(args.output, "woven.h5")
-    weaving = Weaving(fabric, steps=5, tension=1e-4, comm=comm)
-    weaving.run()
-    textile.save_state(weaving.model, woven, fibre_data={"yarn": fabric.fibre_yarn})
-    woven_summary = weaving.summary()   # collective: every rank
-    if comm.rank == 0:
-        print(f"woven: {woven_summary['crossings in pattern order']} of "
-              f"{woven_summary['crossings']} crossings in pattern order")
+woven = args.woven or woven_state(fabric, os.path.join(args.output, "woven.h5"), comm=comm)
 
 # 2. The test: the composite around the woven state (matrix, junctions,
 #    side bodies), its release (two steps), then the bending.

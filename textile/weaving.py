@@ -148,12 +148,18 @@ class Weaving:
 
 
 def woven_state(fabric: Fabric, path: str, solver_options=None, comm=MPI.COMM_WORLD,
-                **weaving_options) -> str:
+                report: bool = True, **weaving_options) -> str:
     """Weave ``fabric`` (:class:`Weaving` with ``weaving_options``) and save
     the woven state to ``path`` (:func:`textile.save_state`, with each
     fibre's yarn), the start of composites and virtual tests; returns
-    ``path``. Collective."""
+    ``path``. ``report``: rank 0 prints how many crossings are in pattern
+    order. Collective."""
     weaving = Weaving(fabric, comm=comm, **weaving_options)
     weaving.run(solver_options=solver_options)
     save_state(weaving.model, path, fibre_data={"yarn": fabric.fibre_yarn})
+    if report:
+        summary = weaving.summary()   # collective
+        if comm.rank == 0:
+            print(f"woven: {summary['crossings in pattern order']} of {summary['crossings']} "
+                  f"crossings in pattern order, saved to {path}")
     return path

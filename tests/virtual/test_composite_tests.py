@@ -16,10 +16,10 @@ import pytest
 from mpi4py import MPI
 
 import textile
-from textile.fabric import Fabric
 from textile.virtual_tests import Bending, Twisting
 from textile.weaving import Weaving
-from textile.yarn import Yarn
+
+from tests.woven_states import plain_weave
 from tests.stability import guard
 
 R = 0.1e-3
@@ -31,9 +31,7 @@ OPTIONS = dict(matrix=MATRIX, composite=dict(size=8 * R, degree=2))
 
 
 def fabric():
-    yarn = Yarn(1, R, FIBRE)
-    return Fabric(yarn, num_warp=2, num_weft=2, spacing=6 * yarn.width, pattern="plain",
-                  elements_per_crossing=4)
+    return plain_weave(FIBRE, R)
 
 
 @pytest.fixture(scope="module")

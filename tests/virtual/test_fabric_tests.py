@@ -16,11 +16,9 @@ import pytest
 from mpi4py import MPI
 
 import textile
-from textile.fabric import Fabric
 from textile.virtual_tests import Bending, Shear, Tension, Twisting
-from textile.yarn import Yarn
 
-from tests.woven_states import woven_once
+from tests.woven_states import plain_weave, woven_once
 
 R = 0.1e-3
 FIBRE = textile.Material(5.0e9, 0.35)
@@ -32,9 +30,7 @@ BALANCE = 1e-6
 
 
 def fabric():
-    yarn = Yarn(1, R, FIBRE)
-    return Fabric(yarn, num_warp=2, num_weft=2, spacing=6 * yarn.width, pattern="plain",
-                  elements_per_crossing=4)
+    return plain_weave(FIBRE, R)
 
 
 @pytest.fixture(scope="module")

@@ -18,6 +18,8 @@ from textile.virtual_tests import PictureFrame
 from textile.weaving import Weaving
 from textile.yarn import Yarn
 
+from tests.woven_states import plain_weave
+
 R = 0.1e-3
 FIBRE = textile.Material(5.0e9, 0.35)
 QUIET = dict(verbose=False)
@@ -25,9 +27,7 @@ ANGLE = math.radians(35.0)
 
 
 def fabric(spacing=6.0, count=1, num_weft=2):
-    yarn = Yarn(count, R, FIBRE, packing="layers 1")
-    return Fabric(yarn, num_warp=2, num_weft=num_weft, spacing=spacing * yarn.width,
-                  pattern="plain", elements_per_crossing=4)
+    return plain_weave(FIBRE, R, spacing, count, num_weft)
 
 
 def weave(path, spacing=6.0, count=1):
