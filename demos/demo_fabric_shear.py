@@ -33,7 +33,7 @@ What to look at
   (``positive/shear_fibres.txt`` ranks them).
 
 Run: ``python3 demos/demo_fabric_shear.py [--output DIR] [--woven FILE]
-[--fibres N] [--spacing S] [--shear U] [--steps N]`` (about a minute on 2
+[--fibres N] [--spacing S] [--shear U] [--steps N]`` (two or three minutes on 2
 cores; ``--fibres 1 --spacing 6`` for a quick monofilament variant).
 """
 import argparse
