@@ -1,5 +1,7 @@
-"""Shared pytest set-up: PETSc objects die on all ranks together."""
+"""Shared pytest set-up: PETSc objects die on all ranks together, and a
+test failing on one rank of an mpirun stops every rank."""
 import gc
+import sys
 
 import pytest
 from mpi4py import MPI
@@ -10,3 +12,19 @@ def collective_cleanup():
     yield
     gc.collect()
     MPI.COMM_WORLD.barrier()
+
+
+def pytest_runtest_logreport(report):
+    """Under mpirun a failure on one rank leaves the others waiting in a
+    collective (the next barrier or solve) until CI's limit: print the
+    failure now, with its captured output, and abort the whole run."""
+    comm = MPI.COMM_WORLD
+    if not report.failed or comm.size == 1:
+        return
+    out = sys.__stderr__
+    out.write(f"\n=== rank {comm.rank}: {report.nodeid} failed ({report.when}); "
+              f"aborting all ranks\n{report.longreprtext}\n")
+    for name, content in report.sections:
+        out.write(f"--- {name}\n{content[-4000:]}\n")
+    out.flush()
+    comm.Abort(1)

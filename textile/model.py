@@ -275,6 +275,10 @@ class Model:
         # with s): every effect sees the same mask
         self._constrained_dofs = {name: dofs for name, (dofs, _)
                                   in self._constraints(self.load_factor).items()}
+        #: counts the changes of the constrained set, the same on every rank
+        #: (a rank-local key, such as an array's id, may repeat on one rank
+        #: only and split a collective check)
+        self.constraint_version = getattr(self, "constraint_version", 0) + 1
         self._masked_dofs = {}
         for f in self.layout.fields:
             d = self.layout.local_dofs(f.name).copy()

@@ -411,11 +411,10 @@ class RigidBodies(Effect):
     def prepare(self, model) -> None:
         """Refuse unknowns that a body holds and something else prescribes
         (checked when the constrained set changes: per stage)."""
-        dofs = model.state().dofs
-        key = (id(dofs["beam"]), id(dofs.get(self.block.name)) if self.block else None)
-        if self._checked_dofs == key:
+        if self._checked_dofs == model.constraint_version:
             return
-        self._checked_dofs = key
+        self._checked_dofs = model.constraint_version
+        dofs = model.state().dofs
         bad = []
         for i, (b, holder, kind, _) in enumerate(self._held):
             d = dofs[self.block.name] if kind == BLOCK_NODE else dofs["beam"]
