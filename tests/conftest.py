@@ -5,12 +5,14 @@ import sys
 
 import pytest
 from mpi4py import MPI
+from petsc4py import PETSc
 
 
 @pytest.fixture(autouse=True)
 def collective_cleanup():
     yield
     gc.collect()
+    PETSc.garbage_cleanup(MPI.COMM_WORLD)  # parallel objects gc left to PETSc
     MPI.COMM_WORLD.barrier()
 
 

@@ -826,6 +826,9 @@ class Solver:
                              self._stage.name, self._stage_index + t)
             self.history.append(rec)
             self._counts["accepted_steps"] += 1
+            # petsc4py keeps dropped parallel objects (old vectors, a
+            # replaced matrix) until a collective clean-up: here, every step
+            PETSc.garbage_cleanup(self.comm)
             attempts = 0
             self._log(f"step {rec.step:4d}  {self._stage.name} s={t:.4f}  "
                       f"newton {attempt.iterations:2d}  solves {attempt.updates:2d}  "
