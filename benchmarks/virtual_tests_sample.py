@@ -14,8 +14,8 @@ figures (6 processors: about 2 h a step without matrix, 3 h with it; 30-40
 global iterations a step), and where the time goes: contact detection
 (FibreContact.prepare/update), assembly per effect (residual and tangent),
 factorizations and solves (PETSc's event log), the rest. Written to
-``output/virtual_tests_sample.json`` after every test (a long run stopped
-later keeps the finished tests).
+``output/virtual_tests_sample.json`` after every step (a long run stopped
+later keeps what it did; tests not run again keep their earlier entry).
 
     mpirun -n 2 .venv/bin/python benchmarks/virtual_tests_sample.py
         [--tests shear bending twisting] [--steps-shear 30] [--steps-rotation 15]
@@ -157,8 +157,17 @@ def main():
                     spacing=args.spacing * yarn.width, pattern="plain",
                     elements_per_crossing=args.elements)
     path = os.path.join(OUT, "virtual_tests_sample.json")
-    results = dict(machine=runtime.describe(), ranks=comm.size, date=time.strftime("%Y-%m-%d"),
-                   woven=args.woven, tests=[])
+    # tests run before (another day, another invocation) stay in the file
+    # unless run again; each test carries its own date and machine
+    kept = []
+    if comm.rank == 0 and os.path.exists(path):
+        with open(path) as f:
+            before = json.load(f)
+        kept = [dict(dict(date=before.get("date"), machine=before.get("machine"),
+                          ranks=before.get("ranks")), **t)
+                for t in before.get("tests", []) if t.get("test") not in args.tests]
+    kept = comm.bcast(kept)
+    results = dict(woven=args.woven, tests=kept)
     for name in args.tests:
         steps = args.steps_shear if name == "shear" else args.steps_rotation
         def progress(partial, _done=list(results["tests"])):
@@ -168,6 +177,7 @@ def main():
                     json.dump(dict(results, tests=_done + [partial]), f, indent=1, default=float)
         out = run_test(name, fabric, args.woven, steps, args, comm, progress)
         out["peak_rss_mib_rank0"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+        out.update(date=time.strftime("%Y-%m-%d"), machine=runtime.describe(), ranks=comm.size)
         results["tests"].append(out)
         if comm.rank == 0:
             paper = PAPER[name]
