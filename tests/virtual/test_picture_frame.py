@@ -255,3 +255,22 @@ def test_bad_input(woven):
     for bad in ("yarns", "fiber", None):
         with pytest.raises(ValueError, match="pin must be one of"):
             PictureFrame(fabric(), woven, angle=0.1, pin=bad, comm=MPI.COMM_SELF)
+
+
+@pytest.fixture(scope="module")
+def woven_mpi(tmp_path_factory):
+    """The woven monofilament sample written once (rank 0), read by every rank."""
+    return woven_once(tmp_path_factory, fabric(), QUIET)
+
+
+@pytest.mark.mpi
+def test_yarn_pins_parallel_equals_serial(woven_mpi):
+    """Yarn pins: the curve and the fibres' shear angle on all ranks equal
+    the one-rank ones (1e-8)."""
+    runs = [PictureFrame(fabric(), woven_mpi, angle=math.radians(10.0), steps=2, pin="yarn",
+                         comm=comm, solver_options=QUIET).run()
+            for comm in (MPI.COMM_SELF, MPI.COMM_WORLD)]
+    (ys, yp), (fs, fp) = ([np.array(r.curve.y) for r in runs],
+                          [np.array([s["fibre_shear_angle"] for s in r.steps]) for r in runs])
+    assert np.abs(ys - yp).max() < 1e-8 * np.abs(ys).max()
+    assert np.abs(fs - fp).max() < 1e-8 * np.abs(fs).max()
