@@ -72,33 +72,40 @@ reaches the tenfold stiffening before the solver stops at a limit point
 and with no lateral contact between parallel yarns.
 
 Measured with yarn pins (pin="yarn", 2026-12-01; tests/woven_states.py
-plain_weave, R = 0.1 mm, E = 5 GPa, friction 0.2; 2 x 2 flat yarns of 2
-and of 3 fibres side by side, 2, 2.5 and 3 yarn widths apart: pin-joint
-bounds 60, 66.4 and 70.5 deg; 32 steps to 64 deg, cut down to 1e-4 of the
-stage): no tenfold stiffening. The first interval is the stiffest: every
-contact starts sticking, and the crossings (four or nine fibre contacts)
-and the fibres of a yarn, clamped together, resist turning until they
-slip a few degrees on; the tangent then falls to a fifth to a twentieth
-of the first interval's. It rises again (3 fibres 2.5 and 3 widths apart:
-to 28 and 44 times its lowest value, 2.4 times the first interval's)
-until Newton fails: 2 fibres at 15.3, 26.7 and 38.6 deg, 3 fibres at
-22.0, 34.3 and 40.2 deg. The stopping angle grows with the spacing, but
-it is where the solve fails, not locking: no lateral contact between
-parallel yarns (their nearest fibres 5 to 9 radii apart, centre to
-centre), the force still rising (but for a 2 % drop just before the stop
-of the 2-fibre sample 2 widths apart); the stop depends on the path (the
-2-fibre sample 3 widths apart stops at 34.2 deg with 3 deg steps) but not
-on the Newton settings (3 fibres 3 widths apart: 40.2 deg also with
-predictor "none", 40 iterations and 40 contact updates; with 80
-iterations the 2-fibre sample 2 widths apart ends on an inverted element
-next to a yarn clamp). The yarns bow into an S, the crossings resisting
-the turn (2 fibres 2 widths apart at 15.3 deg: the yarn-end bodies turn
-by 0.9 to 9.6 deg, a pin-jointed net's yarns by 7.7); the fibres' shear
-angle follows the frame's within 1.3 deg. Per-fibre pins on the 3-fibre
-yarns 2.5 widths apart do stiffen tenfold (at 27 deg; Newton then fails
-on an inverted element at the pins), but that is the pins' artefact: the
-fibres' shear angle there runs 3.8 deg ahead of the frame's, and the pins
-close at any spacing.
+plain_weave, R = 0.1 mm, E = 5 GPa, friction 0.2; 2 x 2 flat yarns of 2 and
+of 3 fibres side by side, 2, 2.5 and 3 yarn widths apart: pin-joint bounds
+60, 66.4 and 70.5 deg; 32 steps to 64 deg, cut down to 1e-4 of the stage):
+no tenfold stiffening. The first interval is the stiffest: every contact
+starts sticking, and the crossings (four or nine fibre contacts) and the
+fibres of a yarn, clamped together, resist turning until they slip a few
+degrees on; the tangent then falls to a fifth to a twentieth of the first
+interval's. It rises again (3 fibres 2.5 and 3 widths apart: to 28 and 44
+times its lowest value, 2.4 times the first interval's) until Newton fails:
+2 fibres at 15.3, 26.7 and 38.6 deg, 3 fibres at 22.0, 34.3 and 40.2 deg.
+The stopping angle grows with the spacing, but it is where the solve fails,
+not locking: no lateral contact between parallel yarns (their nearest
+fibres 5 to 9 radii apart, centre to centre), the force still rising (but
+for a 2 % drop just before the stop of the 2-fibre sample 2 widths apart).
+The stop depends on the path (the 2-fibre sample 3 widths apart stops at
+34.2 deg with 3 deg steps) but not on the Newton settings (3 fibres 3
+widths apart: 40.2 deg also with predictor "none", 40 iterations and 40
+contact updates; with 80 iterations the 2-fibre sample 2 widths apart ends
+on an inverted element next to a yarn clamp); steps of 2e-4 of the stage
+(0.015 deg) still fail, so presumably the contact state jumps there.
+Measured from the tangent's lowest value after slipping instead, the
+3-fibre samples stiffen tenfold at 20.9 (in the last, tiny steps), 25.3 and
+37.6 deg, growing with the spacing, but without lateral contact either.
+Friction 0.05 (3 fibres 3 widths apart) makes the first interval 4.5 times
+softer and stops at 37.3 deg; a 4 x 4 sample (2 fibres 2.5 widths apart)
+stops earlier, at 8.2 deg, on an inverted element inside. The yarns bow
+into an S, the crossings resisting the turn (2 fibres 2 widths apart at
+15.3 deg: the yarn-end bodies turn by 0.9 to 9.6 deg, a pin-jointed net's
+yarns by 7.7); on the 2 x 2 samples the fibres' shear angle follows the
+frame's within 1.3 deg. Per-fibre pins on the 3-fibre yarns 2.5 widths
+apart do stiffen tenfold (at 27 deg; Newton then fails on an inverted
+element at the pins), but that is the pins' artefact: the fibres' shear
+angle there runs 3.8 deg ahead of the frame's, and the pins close at any
+spacing.
 
 Units: those of the fabric; ``angle`` and rotations in radians, reported
 angles in degrees.
