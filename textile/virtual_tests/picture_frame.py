@@ -2,7 +2,8 @@
 items 11-12; the conventions of Cao et al., Composites Part A 39 (2008)).
 
 The frame: the four side bodies (xmin, xmax, ymin, ymax) pin the yarn ends
-of their side (positions follow the arm, the ends turn freely). The arms
+of their side (positions follow the arm, the ends turn freely; or one
+hinged body per yarn end: Pins below). The arms
 meet at hinged corners, so the frame is a one-degree-of-freedom mechanism:
 corner A = (xmin, ymin) is fixed, the opposite corner C = (xmax, ymax) is
 moved by ``displacement`` d along the diagonal AC. The frame's side L is the
@@ -27,7 +28,8 @@ Measured (every step): the pulling force F on the diagonal, the generalized
 force conjugate to d (virtual work of the bodies' reactions: F = sum over
 the bodies of f_b . du_b/dd + m_b . dphi_b/dd, with f_b, m_b what body b
 exerts on the yarn ends it holds, m_b about its current centre: what the
-machine driving the frame must apply to the massless body); the shear
+machine driving the frame must apply to the massless body; a yarn body's
+free rotation carries no moment, so only its f_b . du_b/dd counts); the shear
 force F_s = F / (2 cos theta); the normalized shear force
 F_s L_frame / L_fabric^2 (= F_s / L here: the sample fills the frame).
 Also the shear angle seen by the fibres: 90 deg minus the angle between
@@ -44,14 +46,23 @@ the locking angle (where the tangent stiffness has risen tenfold,
 the pin-joint bound arccos(w / p) (w the yarn width, p the spacing), and the
 largest difference between the fibres' shear angle and the frame's.
 
-Pins: the yarn ends turn freely about z but do not spin about their own
-axis (:class:`~textile.sample.Sample`: a round fibre pinned at both ends
-would otherwise have a zero-stiffness spin). Each fibre of a yarn of
-several fibres gets its own pin on the arm: as the arm turns against the
-yarn, those pins (a fibre diameter apart along the arm) come closer than a
-diameter across the yarn, so such yarns resist from the first degree on
-(measured: a force a thousand times a monofilament's), a boundary effect
-of the pins, not locking.
+Pins (``pin``): with "fibre" (the default) the four side bodies pin every
+fibre end of their side: the ends turn freely about z but do not spin
+about their own axis (:class:`~textile.sample.Sample`: a round fibre pinned
+at both ends would otherwise have a zero-stiffness spin). Each fibre of a
+yarn of several fibres then gets its own pin on the arm: as the arm turns
+against the yarn, those pins (a fibre diameter apart along the arm) come
+closer than a diameter across the yarn, so such yarns resist from the
+first degree on (measured: a force a thousand times a monofilament's), a
+boundary effect of the pins, not locking. With "yarn" each yarn end is
+clamped by a body of its own (the Sample's split sides): its fibres keep
+their layout and turn together; the body's centre (the mean of its fibre
+ends, the pin point on the arm) follows the arm, its rotation about z is
+free (the hinge: the yarn turns about its pin) and z, rx, ry are held. The
+side bodies turn with their arms (rz prescribed); the yarn bodies do not,
+so the frame's corners are checked from the side bodies
+(:meth:`PictureFrame.corner_positions`) and the pins from either
+(:meth:`PictureFrame.pin_positions`).
 
 Measured on a 2 x 2 plain weave of monofilaments (tests/virtual): 6 widths
 apart, the fibres' shear angle exceeds the frame's by 2.5 % (0.86 deg at
@@ -60,6 +71,42 @@ reaches the tenfold stiffening before the solver stops at a limit point
 (near 52 deg and 30-37 deg), below the pin-joint bounds (80 and 75 deg)
 and with no lateral contact between parallel yarns.
 
+Measured with yarn pins (pin="yarn", 2026-12-01; tests/woven_states.py
+plain_weave, R = 0.1 mm, E = 5 GPa, friction 0.2; 2 x 2 flat yarns of 2 and
+of 3 fibres side by side, 2, 2.5 and 3 yarn widths apart: pin-joint bounds
+60, 66.4 and 70.5 deg; 32 steps to 64 deg, cut down to 1e-4 of the stage):
+no tenfold stiffening. The first interval is the stiffest: every contact
+starts sticking, and the crossings (four or nine fibre contacts) and the
+fibres of a yarn, clamped together, resist turning until they slip a few
+degrees on; the tangent then falls to a fifth to a twentieth of the first
+interval's. It rises again (3 fibres 2.5 and 3 widths apart: to 28 and 44
+times its lowest value, 2.4 times the first interval's) until Newton fails:
+2 fibres at 15.3, 26.7 and 38.6 deg, 3 fibres at 22.0, 34.3 and 40.2 deg.
+The stopping angle grows with the spacing, but it is where the solve fails,
+not locking: no lateral contact between parallel yarns (their nearest
+fibres 5 to 9 radii apart, centre to centre), the force still rising (but
+for a 2 % drop just before the stop of the 2-fibre sample 2 widths apart).
+The stop depends on the path (the 2-fibre sample 3 widths apart stops at
+34.2 deg with 3 deg steps) but not on the Newton settings (3 fibres 3
+widths apart: 40.2 deg also with predictor "none", 40 iterations and 40
+contact updates; with 80 iterations the 2-fibre sample 2 widths apart ends
+on an inverted element next to a yarn clamp); steps of 2e-4 of the stage
+(0.015 deg) still fail, so presumably the contact state jumps there.
+Measured from the tangent's lowest value after slipping instead, the
+3-fibre samples stiffen tenfold at 20.9 (in the last, tiny steps), 25.3 and
+37.6 deg, growing with the spacing, but without lateral contact either.
+Friction 0.05 (3 fibres 3 widths apart) makes the first interval 4.5 times
+softer and stops at 37.3 deg; a 4 x 4 sample (2 fibres 2.5 widths apart)
+stops earlier, at 8.2 deg, on an inverted element inside. The yarns bow
+into an S, the crossings resisting the turn (2 fibres 2 widths apart at
+15.3 deg: the yarn-end bodies turn by 0.9 to 9.6 deg, a pin-jointed net's
+yarns by 7.7); on the 2 x 2 samples the fibres' shear angle follows the
+frame's within 1.3 deg. Per-fibre pins on the 3-fibre yarns 2.5 widths
+apart do stiffen tenfold (at 27 deg; Newton then fails on an inverted
+element at the pins), but that is the pins' artefact: the fibres' shear
+angle there runs 3.8 deg ahead of the frame's, and the pins close at any
+spacing.
+
 Units: those of the fabric; ``angle`` and rotations in radians, reported
 angles in degrees.
 """
@@ -67,6 +114,7 @@ from __future__ import annotations
 
 import math
 import numbers
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -80,6 +128,21 @@ ARMS = {"xmin": ("A", -0.5), "xmax": ("B", -0.5), "ymin": ("A", 0.5), "ymax": ("
 CORNERS = {"A": ("xmin", "ymin"), "B": ("ymin", "xmax"), "C": ("xmax", "ymax"),
            "D": ("ymax", "xmin")}
 SQRT2 = math.sqrt(2.0)
+#: how the arms hold the yarn ends (module docstring, Pins)
+PIN_OPTIONS = ("fibre", "yarn")
+
+
+@dataclass(frozen=True)
+class ArmBody:
+    """A rigid body the frame drives: on the arm of ``side``, holding the
+    ends of ``yarn`` (None: every yarn end of the side); ``index`` in the
+    model's rigid bodies; ``centre`` its reference centre (the pin point on
+    the arm: the mean of the held fibre ends in the woven state)."""
+
+    side: str
+    yarn: int | None
+    index: int
+    centre: np.ndarray
 
 
 def _rz(phi: float) -> np.ndarray:
@@ -102,6 +165,10 @@ class PictureFrame(VirtualTest):
     angle:
         Instead of ``displacement``: the frame's shear angle at the end of
         loading (radians, non-zero, |angle| < pi/2).
+    pin:
+        How the arms hold the yarn ends (module docstring, Pins): "fibre"
+        (default), each fibre end pinned on its side's body, or "yarn",
+        each yarn end clamped by a body of its own hinged on the arm.
     **options:
         Those of :class:`~textile.virtual_tests.VirtualTest` (steps,
         contact (default friction 0.2), output, comm, ...).
@@ -114,7 +181,14 @@ class PictureFrame(VirtualTest):
     pins = ("xmin", "xmax", "ymin", "ymax")
 
     def __init__(self, fabric, woven, displacement: float | None = None, *,
-                 angle: float | None = None, **options):
+                 angle: float | None = None, pin: str = "fibre", **options):
+        if pin not in PIN_OPTIONS:
+            raise ValueError(f"PictureFrame: pin must be one of {PIN_OPTIONS}, got {pin!r}")
+        #: "fibre" or "yarn": how the arms hold the yarn ends
+        self.pin = pin
+        if pin == "yarn":
+            # one clamping body per yarn end (Sample's split sides)
+            self.pins, self.split = (), self.sides
         if (displacement is None) == (angle is None):
             raise ValueError("PictureFrame: give either displacement or angle (not both)")
         for label, v in (("displacement", displacement), ("angle", angle)):
@@ -154,12 +228,16 @@ class PictureFrame(VirtualTest):
                              f"{self.max_displacement:.6g}) for a frame of side {L:.6g} (it "
                              f"folds flat at the ends), got {displacement!r}")
         self.displacement = float(displacement)
-        bodies = sample.model.rigid_bodies.bodies
-        self._index = {s: next(i for i, b in enumerate(bodies) if b is sample.sides[s])
-                       for s in self.sides}
-        #: the bodies' reference centres
-        self.centres = {s: np.array(sample.model.rigid_bodies.centres[i])
-                        for s, i in self._index.items()}
+        rigid = sample.model.rigid_bodies
+        index = {id(b): i for i, b in enumerate(rigid.bodies)}
+        held = ([(side, None, sample.sides[side]) for side in self.sides] if pin == "fibre"
+                else [(side, k, body) for side in self.sides
+                      for k, body in sorted(sample.yarn_bodies[side].items())])
+        #: the bodies the frame drives, arm by arm
+        self.arm_bodies: list[ArmBody] = []
+        for side, k, body in held:
+            i = index[id(body)]
+            self.arm_bodies.append(ArmBody(side, k, i, np.array(rigid.centres[i])))
         #: the yarn width w (the wider of warp and weft)
         self.yarn_width = float(max(fabric.warp.width, fabric.weft.width))
         #: the pin-joint locking bound arccos(w / p) (radians)
@@ -182,19 +260,19 @@ class PictureFrame(VirtualTest):
         d = a + L * np.array([s, c, 0.0])
         return {"A": a.copy(), "B": b, "C": b + d - a, "D": d}
 
-    def body_motion(self, side: str, gamma: float) -> tuple[np.ndarray, float]:
-        """(u, phi): displacement of the body's centre and its rotation about
-        z at shear angle ``gamma``, from its hinge corner."""
+    def arm_motion(self, side: str, point: np.ndarray, gamma: float) -> tuple[np.ndarray, float]:
+        """(u, phi): displacement of the arm's point ``point`` (reference
+        position) and the arm's rotation about z at shear angle ``gamma``,
+        from its hinge corner H: point -> H' + R(phi)(point - H)."""
         corner, turn = ARMS[side]
         phi = turn * gamma
-        c = self.centres[side]
         h0, h = self.corners(0.0)[corner], self.corners(gamma)[corner]
-        u = h - c - _rz(phi) @ (h0 - c)
+        u = h - point - _rz(phi) @ (h0 - point)
         u[2] = 0.0
         return u, phi
 
-    def body_rates(self, side: str, d: float) -> tuple[np.ndarray, float]:
-        """(du/dd, dphi/dd) of the body of ``side`` at displacement d."""
+    def arm_rates(self, side: str, point: np.ndarray, d: float) -> tuple[np.ndarray, float]:
+        """(du/dd, dphi/dd) of :meth:`arm_motion` at displacement d."""
         gamma = self.shear_angle(d)
         dgamma = 1.0 / (self.side * math.sin(self.frame_angle(d)))
         corner, turn = ARMS[side]
@@ -202,50 +280,66 @@ class PictureFrame(VirtualTest):
         L, c, s = self.side, math.cos(gamma / 2), math.sin(gamma / 2)
         dh = {"A": np.zeros(3), "B": 0.5 * L * np.array([-s, c, 0.0]),
               "D": 0.5 * L * np.array([c, -s, 0.0])}[corner]
-        arm = _rz(phi) @ (self.corners(0.0)[corner] - self.centres[side])
+        arm = _rz(phi) @ (self.corners(0.0)[corner] - point)
         du = dh - turn * np.cross([0.0, 0.0, 1.0], arm)
         du[2] = 0.0
         return du * dgamma, turn * dgamma
 
     def corner_positions(self) -> dict[str, list[np.ndarray]]:
-        """Each hinge corner where the two bodies meeting there carry it now
-        (from their current centres and accumulated rotations): the frame
-        holds together when the two agree (collective)."""
+        """Each hinge corner where the two side bodies meeting there carry it
+        now (from their current centres and accumulated rotations): the
+        frame holds together when the two agree (``pin="fibre"`` only: yarn
+        bodies turn freely, see :meth:`pin_positions`; collective)."""
+        if self.pin != "fibre":
+            raise ValueError("PictureFrame.corner_positions: the yarn bodies turn freely about "
+                             "their pins (pin='yarn'); use pin_positions")
         rb = self.sample.model.rigid_bodies
         positions = rb.positions()
         ref = self.corners(0.0)
+        body = {b.side: b for b in self.arm_bodies}
         out = {}
         for corner, pair in CORNERS.items():
-            out[corner] = []
-            for side in pair:
-                i = self._index[side]
-                c = self.centres[side]
-                out[corner].append(positions[i] + rb.rotation[i] @ (ref[corner] - c))
+            out[corner] = [positions[body[side].index]
+                           + rb.rotation[body[side].index] @ (ref[corner] - body[side].centre)
+                           for side in pair]
         return out
+
+    def pin_positions(self, gamma: float) -> np.ndarray:
+        """(bodies, 2, 3): per arm body (:attr:`arm_bodies`), its current
+        centre and where the arm at shear angle ``gamma`` carries its pin
+        point (collective)."""
+        positions = self.sample.model.rigid_bodies.positions()
+        return np.array([[positions[b.index],
+                          b.centre + self.arm_motion(b.side, b.centre, gamma)[0]]
+                         for b in self.arm_bodies])
 
     # -- the test -------------------------------------------------------------------
     def drive(self) -> dict:
+        # a side body turns with its arm; a yarn body turns freely (hinge)
+        driven = ("x", "y", "rz") if self.pin == "fibre" else ("x", "y")
+        bodies = self.sample.model.rigid_bodies.bodies
         targets = {}
-        for side in self.sides:
-            body = self.sample.sides[side]
+        for b in self.arm_bodies:
+            body = bodies[b.index]
             body.fix(("z", "rx", "ry"))
-            handle = body.prescribe(("x", "y", "rz"), 0.0)
-            targets[handle] = lambda s, side=side: self._prescribed(side, s)
+            handle = body.prescribe(driven, 0.0)
+            targets[handle] = lambda s, b=b: self._prescribed(b, s)
         return targets
 
-    def _prescribed(self, side: str, s: float) -> np.ndarray:
-        u, phi = self.body_motion(side, self.shear_angle(s * self.displacement))
-        return np.array([u[0], u[1], phi])
+    def _prescribed(self, body: ArmBody, s: float) -> np.ndarray:
+        u, phi = self.arm_motion(body.side, body.centre, self.shear_angle(s * self.displacement))
+        return np.array([u[0], u[1], phi] if self.pin == "fibre" else [u[0], u[1]])
 
     def pulling_force(self, d: float) -> float:
         """F, the generalized force conjugate to d (module docstring), at the
-        current state (collective)."""
+        current state: the virtual work of the arm bodies' reactions (a
+        yarn body's free rz carries no moment; collective)."""
         r = self.sample.model.rigid_bodies.reactions()
         F = 0.0
-        for side in self.sides:
-            du, dphi = self.body_rates(side, d)
-            f = r[self._index[side]]
-            F += float(f[0:3] @ du + f[5] * dphi)
+        for b in self.arm_bodies:
+            du, dphi = self.arm_rates(b.side, b.centre, d)
+            f = r[b.index]
+            F += float(f[0:3] @ du) + (float(f[5] * dphi) if self.pin == "fibre" else 0.0)
         return F
 
     def fibre_shear_angle(self, gamma: float) -> float:
