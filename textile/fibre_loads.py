@@ -43,7 +43,7 @@ import numpy as np
 #: Per-fibre figures, with the words for their units in tables.
 FIGURES = {"max_axial_strain": "axial strain (GL, -)",
            "max_curvature": "curvature (1/length)",
-           "max_stress": "surface stress (unit of E)"}
+           "max_stress": "surface stress (E's unit, e.g. Pa)"}
 _AXIAL_STRAIN, _AXIAL_STRESS = 2, 8   # E33 and S33 in the element fields (Voigt 33)
 
 
