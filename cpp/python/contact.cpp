@@ -280,7 +280,7 @@ void declare_contact(py::module_& m)
           py::arg("parallel_angle"), py::arg("owned"), py::arg("weaving") = nullptr,
           py::arg("reset_normals") = false, py::arg("woven") = nullptr,
           "The set of detection pass `found` with history from this one (evaluated by this "
-          "rank: first node on fibre i in `owned`), and what each new zone inherits. "
+          "rank: evaluated_here in contact_set.h), and what each new zone inherits. "
           "`weaving`: a WeavingOrder whose ordered pairs take the vertical normal; "
           "`reset_normals`: set normals from the geometry, not from the old elements.")
       .def_static(
@@ -319,8 +319,7 @@ void declare_contact(py::module_& m)
                                        len.data()[e],   k.data()[e],
                                        Eigen::Vector3d(st.data() + 3 * e)};
               ContactElementState el = restore_element(geo.lines, saved, g_r, friction, cspan(q));
-              // each element is evaluated by the rank owning its first node on fibre i
-              if (el.nodes_i[0] >= owned.first and el.nodes_i[0] < owned.second)
+              if (evaluated_here(el.fibre_i, el.fibre_j, el.nodes_i[0], el.nodes_j[0], owned))
                 elements.push_back(el);
             }
             return ContactSet(std::move(elements), num_zones);
@@ -329,7 +328,7 @@ void declare_contact(py::module_& m)
           py::arg("order"), py::arg("radius"), py::arg("g_r"), py::arg("mu"), py::arg("u_rev"),
           py::arg("owned"),
           "The elements of a saved state (a dict of the data() columns, all ranks' elements) "
-          "that this rank evaluates (first node on fibre i in `owned`).")
+          "that this rank evaluates (evaluated_here in contact_set.h).")
       .def("take_layout", &ContactSet::take_layout, py::arg("previous"),
            "Take over previous's assembly layout if it couples the same nodes.")
       .def("set_zone_penalties", [](ContactSet& self, const carray<double>& k)

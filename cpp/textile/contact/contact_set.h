@@ -23,10 +23,26 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace textile::contact
 {
+
+/// Whether this rank evaluates (and assembles) the element between fibres
+/// i and j whose first nodes are node_i and node_j, with this rank owning
+/// global nodes [owned.first, owned.second). The owner of the first node on
+/// fibre i when i + j is even, on fibre j when odd: a fibre pair stays on
+/// one rank while its fibres slide (its history stays where it is), and the
+/// pairs of fibres on different ranks (every warp-weft pair when the ranks
+/// split the fibres into warp and weft) are shared out between the two
+/// ranks instead of all falling to the rank of the lower fibre.
+inline bool evaluated_here(int fibre_i, int fibre_j, std::int64_t node_i, std::int64_t node_j,
+                           std::pair<std::int64_t, std::int64_t> owned)
+{
+  const std::int64_t node = (fibre_i + fibre_j) % 2 == 0 ? node_i : node_j;
+  return node >= owned.first and node < owned.second;
+}
 
 /// One contact element with everything held fixed during a Newton solve
 /// (particles, normal, penalty) and its friction history (stick point).

@@ -122,10 +122,10 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
       zones.previous_zone_max[z] = std::max(zones.previous_zone_max[z], from->zone);
       zones.changed_kind[z] |= from->crossing != p.crossing;
     }
-    std::array<std::int64_t, 3> nodes;
+    std::array<std::int64_t, 3> nodes, nodes_j;
     element_of(c, p.fibre_i, p.s_i, nodes);
-    // each element is evaluated by the rank owning its first node on fibre i
-    if (nodes[0] < owned.first or nodes[0] >= owned.second)
+    element_of(c, p.fibre_j, p.s_j, nodes_j);
+    if (!evaluated_here(p.fibre_i, p.fibre_j, nodes[0], nodes_j[0], owned))
       continue;
     const Eigen::Vector3d previous_normal
         = from and !par.reset_normals ? from->normal : Eigen::Vector3d::Zero();

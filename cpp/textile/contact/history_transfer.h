@@ -72,8 +72,8 @@ struct ElementParameters
 /// The contact set of detection pass d at state q (all nodes, 9 unknowns
 /// each), with history from `old` (normals: the weaving order's for pairs
 /// it orders, with particles facing each other vertically; else
-/// contact_normal): this rank's elements only, those whose
-/// first node on fibre i lies in [owned.first, owned.second). The penalty
+/// contact_normal): this rank's elements only (evaluated_here,
+/// contact_set.h). The penalty
 /// of an element is its match's, or par.penalty; callers make it one per
 /// zone (ContactSet::set_zone_penalties) from the reduced inheritance,
 /// which is computed over all points (an old element may pass its zone's
