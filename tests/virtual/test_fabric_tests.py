@@ -149,3 +149,21 @@ def test_parallel_equals_serial(woven_mpi):
     parallel = Shear(fabric(), woven_mpi, 0.1 * L, steps=2, comm=MPI.COMM_WORLD).run()
     ys, yp = np.array(serial.curve.y), np.array(parallel.curve.y)
     assert np.abs(ys - yp).max() < 1e-8 * np.abs(ys).max()
+
+
+@pytest.mark.mpi
+def test_ranks_share_the_crossings(woven_mpi):
+    """The ranks split the fibres warp | weft here, so every crossing couples
+    fibres of two ranks: each rank evaluates half of them (evaluated_here in
+    contact_set.h; all of them fell to rank 0 before), and together all of
+    the saved elements, each once."""
+    from textile.sample import Sample
+    comm = MPI.COMM_WORLD
+    sample = Sample(fabric(), woven_mpi, comm=comm)
+    sample.model.setup()
+    mine = sample.contact.set.size
+    counts = comm.allgather(mine)
+    total = Sample(fabric(), woven_mpi, comm=MPI.COMM_SELF).contact.set.size
+    assert sum(counts) == total > 0
+    if comm.size == 2:
+        assert counts[0] == counts[1]   # 4 crossing elements of 2 x 2 fibre pairs, 2 each
