@@ -517,13 +517,15 @@ class Model:
     def _assemble_tangent(self, st: State, P: PETSc.Mat, J: PETSc.Mat) -> None:
         P.zeroEntries()
         error = None
-        try:
-            for e in self.effects:
-                t0 = time.perf_counter()
+        for e in self.effects:
+            # every effect assembles even after another's domain error: some
+            # assemblies are collective (contact blocks sent between ranks)
+            t0 = time.perf_counter()
+            try:
                 e.jacobian(st, P)
-                self._time(e, "jacobian", t0)
-        except _cpp.GeometryError as exc:
-            error = exc
+            except _cpp.GeometryError as exc:
+                error = error or exc
+            self._time(e, "jacobian", t0)
         if self.comm.allreduce(error is not None, op=MPI.LOR):
             # the residual at this state passed: keep SNES going on an
             # identity, the convergence test stops it (domain_error is set)

@@ -392,10 +392,13 @@ void declare_contact(py::module_& m)
              out["kernel"] = self.timing().kernel;
              out["total"] = self.timing().total;
              out["kernel_calls"] = self.timing().kernel_calls;
+             out["off_rank_sent"] = self.timing().off_rank_sent;
+             out["off_rank_stashed"] = self.timing().off_rank_stashed;
              return out;
            },
            "Seconds in assemble_vector + assemble_matrix since reset_timing: in the element "
-           "kernels and in all.")
+           "kernels and in all; node blocks of other ranks' rows sent to their owners and "
+           "stashed by PETSc (counts).")
       .def("reset_timing", &ContactSet::reset_timing)
       .def("data",
            [](const ContactSet& self)

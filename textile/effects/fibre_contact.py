@@ -281,7 +281,8 @@ class FibreContact(Effect):
         # pattern (they cannot close within one Newton solve)
         self.pattern_margin = 0.5 * rmin
         self.stats = {}
-        self._timing = dict(kernel=0.0, total=0.0, kernel_calls=0)
+        self._timing = dict(kernel=0.0, total=0.0, kernel_calls=0, off_rank_sent=0,
+                            off_rank_stashed=0)
         self.updates = 0
         self.emergency_retunes = 0
         self.retuned_zones = 0
@@ -644,7 +645,10 @@ class FibreContact(Effect):
         """Seconds spent by this effect's C++ assembly (residual + tangent)
         since setup: in the element kernels ("kernel") and in all ("total",
         which adds the gap checks of open elements, the node-block sums and
-        the PETSc insertion); "kernel_calls" counts kernel evaluations."""
+        the PETSc insertion); "kernel_calls" counts kernel evaluations,
+        "off_rank_sent" the node blocks of other ranks' rows this rank sent
+        to their owners (added in place there) and "off_rank_stashed" those
+        that went through PETSc's stash instead (MatSetValues)."""
         out = dict(self._timing)
         for k, v in self.set.timing().items():
             out[k] += v

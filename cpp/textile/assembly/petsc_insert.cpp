@@ -1,4 +1,5 @@
 #include "petsc_insert.h"
+#include "aij_arrays.h"
 #include "ordered_pipeline.h"
 #include "petsc_error.h"
 
@@ -33,72 +34,6 @@ void add_diagonal(Mat A, std::span<const std::int32_t> rows, double value)
     check(MatSetValuesLocal(A, 1, &i, 1, &i, &value, ADD_VALUES), "MatSetValuesLocal");
   }
 }
-namespace
-{
-/// CSR structure of a sequential AIJ matrix (row starts, column indices).
-struct Csr
-{
-  PetscInt n = 0;
-  const PetscInt* ia = nullptr;
-  const PetscInt* ja = nullptr;
-
-  /// Position of column col in row row, or -1.
-  std::int32_t find(PetscInt row, PetscInt col) const
-  {
-    const PetscInt* begin = ja + ia[row];
-    const PetscInt* end = ja + ia[row + 1];
-    const PetscInt* it = std::lower_bound(begin, end, col);
-    return (it != end and *it == col) ? static_cast<std::int32_t>(it - ja) : -1;
-  }
-};
-
-/// Borrowed CSR arrays of A, handed back on destruction.
-class RowIJ
-{
-public:
-  explicit RowIJ(Mat A) : _A(A)
-  {
-    PetscBool done = PETSC_FALSE;
-    check(MatGetRowIJ(A, 0, PETSC_FALSE, PETSC_FALSE, &csr.n, &csr.ia, &csr.ja, &done),
-          "MatGetRowIJ");
-    if (!done)
-      throw std::runtime_error("MatGetRowIJ: no CSR structure");
-  }
-  ~RowIJ()
-  {
-    PetscBool done;
-    MatRestoreRowIJ(_A, 0, PETSC_FALSE, PETSC_FALSE, &csr.n, &csr.ia, &csr.ja, &done);
-  }
-  RowIJ(const RowIJ&) = delete;
-  RowIJ& operator=(const RowIJ&) = delete;
-  Csr csr;
-
-private:
-  Mat _A;
-};
-
-/// Borrowed value array of a sequential AIJ matrix, handed back on destruction.
-class Values
-{
-public:
-  explicit Values(Mat A) : _A(A) { check(MatSeqAIJGetArray(A, &data), "MatSeqAIJGetArray"); }
-  ~Values() { MatSeqAIJRestoreArray(_A, &data); }
-  Values(const Values&) = delete;
-  Values& operator=(const Values&) = delete;
-  PetscScalar* data = nullptr;
-
-private:
-  Mat _A;
-};
-
-bool has_type(Mat A, const char* type)
-{
-  PetscBool same = PETSC_FALSE;
-  check(PetscObjectTypeCompare(reinterpret_cast<PetscObject>(A), type, &same),
-        "PetscObjectTypeCompare");
-  return same;
-}
-} // namespace
 
 bool BlockInsertion::matches(Mat A, std::span<const std::int32_t> indices, int block_size) const
 {

@@ -243,7 +243,10 @@ void ContactSet::assemble_matrix(std::span<const double> q, std::span<const std:
     ++_timing.kernel_calls;
     _blocks.add(k, _K);
   }
+  const auto before = _blocks.off_rank_counts();
   _blocks.insert(A);
+  _timing.off_rank_sent += _blocks.off_rank_counts().sent - before.sent;
+  _timing.off_rank_stashed += _blocks.off_rank_counts().stashed - before.stashed;
   _timing.total += seconds_since(t0);
 }
 

@@ -105,6 +105,7 @@ public:
 
   /// A[dofs, dofs] += contact tangent: element tangents summed per pair of
   /// fibre nodes, inserted one block row at a time (node_block_matrix.h).
+  /// Collective on an mpiaij matrix of several ranks.
   void assemble_matrix(std::span<const double> q, std::span<const std::int32_t> dofs, Mat A);
 
   /// Take over `previous`'s assembly layout (node blocks and their slots in
@@ -164,11 +165,14 @@ public:
   void set_tangent_floor(double fraction);
 
   /// Seconds spent in assemble_vector and assemble_matrix since the last
-  /// reset: in the element kernels (contact_element), and in all.
+  /// reset: in the element kernels (contact_element), and in all; node
+  /// blocks of other ranks' rows that assemble_matrix sent to their owners
+  /// and that went through PETSc's stash (node_block_matrix.h).
   struct Timing
   {
     double kernel = 0, total = 0;
     std::size_t kernel_calls = 0;
+    std::size_t off_rank_sent = 0, off_rank_stashed = 0;
   };
   const Timing& timing() const { return _timing; }
   void reset_timing() { _timing = {}; }

@@ -1,4 +1,5 @@
 #include "node_block_matrix.h"
+#include "../assembly/aij_arrays.h"
 #include "../assembly/petsc_error.h"
 
 #include <algorithm>
@@ -177,130 +178,91 @@ void NodeBlockMatrix::locate(Mat A)
   slots_ = MatrixSlots();
   slots_.matrix = A;
   check(MatGetNonzeroState(A, &slots_.nonzero_state), "MatGetNonzeroState");
-  MatType type;
-  check(MatGetType(A, &type), "MatGetType");
-  const bool seq = std::strcmp(type, MATSEQAIJ) == 0, mpi = std::strcmp(type, MATMPIAIJ) == 0;
-  if (!seq and !mpi)
-    return; // MatSetValues for every row
-  slots_.parallel = mpi;
-  Mat diagonal = A, off_diagonal = nullptr;
-  const PetscInt* garray = nullptr; // global column of each off-diagonal column
-  if (mpi)
-    check(MatMPIAIJGetSeqAIJ(A, &diagonal, &off_diagonal, &garray), "MatMPIAIJGetSeqAIJ");
-  PetscInt r0, r1, c0, c1;
+  slots_.parallel = assembly::has_type(A, MATMPIAIJ);
+  PetscInt r0 = 0, r1 = 0;
   check(MatGetOwnershipRange(A, &r0, &r1), "MatGetOwnershipRange");
-  check(MatGetOwnershipRangeColumn(A, &c0, &c1), "MatGetOwnershipRangeColumn");
-  struct Csr
-  {
-    PetscInt n = 0, columns = 0;
-    const PetscInt *ia = nullptr, *ja = nullptr;
-    PetscBool done = PETSC_FALSE;
-  } d, o;
-  check(MatGetRowIJ(diagonal, 0, PETSC_FALSE, PETSC_FALSE, &d.n, &d.ia, &d.ja, &d.done),
-        "MatGetRowIJ");
-  if (off_diagonal)
-  {
-    check(MatGetRowIJ(off_diagonal, 0, PETSC_FALSE, PETSC_FALSE, &o.n, &o.ia, &o.ja, &o.done),
-          "MatGetRowIJ");
-    PetscInt rows;
-    check(MatGetSize(off_diagonal, &rows, &o.columns), "MatGetSize");
-  }
-  const bool have_csr = d.done and (!off_diagonal or o.done);
-  if (have_csr)
-  {
-    slots_.direct = true;
-    slots_.diagonal_size = static_cast<std::size_t>(d.ia[d.n]);
-    slots_.position.assign(block_size * col_node_.size(), -1);
-    slots_.block_direct.assign(col_node_.size(), 0);
-    slots_.block_rows_contiguous.assign(col_node_.size(), 0);
-    // slot of global (row, column), -2 when outside the pattern
-    auto find = [](const Csr& m, PetscInt local_row, PetscInt column) -> std::int64_t
+  // a block row is owned here when all its free rows are
+  slots_.row_owned.assign(row_node_.size(), 1);
+  for (std::size_t r = 0; r < row_node_.size(); ++r)
+    for (int i = 0; i < dofs_per_node; ++i)
     {
-      const PetscInt* first = m.ja + m.ia[local_row];
-      const PetscInt* last = m.ja + m.ia[local_row + 1];
-      const PetscInt* it = std::lower_bound(first, last, column);
-      return (it != last and *it == column) ? static_cast<std::int64_t>(it - m.ja) : -2;
-    };
-    auto slot_of = [&](std::int32_t row, std::int32_t col) -> std::int64_t
-    {
-      if (col >= c0 and col < c1)
-        return find(d, row - r0, col - c0);
-      if (!off_diagonal)
-        return -2;
-      const PetscInt* g = std::lower_bound(garray, garray + o.columns, col);
-      if (g == garray + o.columns or *g != col)
-        return -2;
-      const std::int64_t slot = find(o, row - r0, static_cast<PetscInt>(g - garray));
-      return slot < 0 ? slot : slot + static_cast<std::int64_t>(slots_.diagonal_size);
-    };
-    // global column of a slot of a row, -1 outside the row (the inverse of
-    // slot_of)
-    auto column_at = [&](std::int32_t row, std::int64_t slot) -> std::int64_t
-    {
-      const PetscInt lr = row - r0;
-      const std::int64_t nd = static_cast<std::int64_t>(slots_.diagonal_size);
-      if (slot < nd)
-        return slot >= d.ia[lr] and slot < d.ia[lr + 1] ? d.ja[slot] + c0 : -1;
-      const std::int64_t k = slot - nd;
-      return off_diagonal and k >= o.ia[lr] and k < o.ia[lr + 1] ? garray[o.ja[k]] : -1;
-    };
+      const std::int32_t row = dofs_[dofs_per_node * row_node_[r] + i];
+      if (row >= 0 and (row < r0 or row >= r1))
+        slots_.row_owned[r] = 0;
+    }
+  if (slots_.parallel)
     for (std::size_t r = 0; r < row_node_.size(); ++r)
+      if (!slots_.row_owned[r])
+        for (std::size_t p = row_start_[r]; p < row_start_[r + 1]; ++p)
+          slots_.off_rank.push_back(static_cast<std::int32_t>(p));
+
+  const assembly::AijPattern pattern(A);
+  if (!pattern.usable())
+    return; // MatSetValues for every owned row
+  slots_.direct = true;
+  slots_.diagonal_size = static_cast<std::size_t>(pattern.diagonal_size());
+  slots_.position.assign(block_size * col_node_.size(), -1);
+  slots_.block_direct.assign(col_node_.size(), 0);
+  slots_.block_rows_contiguous.assign(col_node_.size(), 0);
+  for (std::size_t r = 0; r < row_node_.size(); ++r)
+  {
+    // a block is summed in place when its rows are owned here and all its
+    // entries are in the pattern (constrained ones are skipped)
+    if (!slots_.row_owned[r])
+      continue;
+    for (std::size_t p = row_start_[r]; p < row_start_[r + 1]; ++p)
     {
-      // a block is summed in place when all its rows are owned here and all
-      // its entries are in the pattern (constrained ones are skipped)
-      bool owned = true;
-      for (int i = 0; i < dofs_per_node; ++i)
+      bool inside = true;
+      for (int i = 0; i < dofs_per_node and inside; ++i)
       {
         const std::int32_t row = dofs_[dofs_per_node * row_node_[r] + i];
-        owned = owned and (row < 0 or (row >= r0 and row < r1));
+        for (int j = 0; j < dofs_per_node and inside and row >= 0; ++j)
+        {
+          const std::int32_t col = dofs_[dofs_per_node * col_node_[p] + j];
+          if (col < 0)
+            continue;
+          // a node's columns are consecutive in the pattern: the slot
+          // after the previous column's, when it holds this column
+          const std::int64_t* previous
+              = j > 0 ? &slots_.position[block_size * p + dofs_per_node * i + j - 1] : nullptr;
+          const std::int64_t slot = previous and *previous >= 0
+                                            and pattern.column(row, *previous + 1) == col
+                                        ? *previous + 1
+                                        : pattern.slot(row, col);
+          inside = slot >= 0;
+          slots_.position[block_size * p + dofs_per_node * i + j] = slot;
+        }
       }
-      if (!owned)
-        continue; // stashed by MatSetValues for its owner
-      for (std::size_t p = row_start_[r]; p < row_start_[r + 1]; ++p)
+      slots_.block_direct[p] = inside;
+      // contiguous when every row of the block has its 9 slots side by
+      // side (all columns free, consecutive in the pattern, one part)
+      bool contiguous = inside;
+      for (int i = 0; i < dofs_per_node and contiguous; ++i)
       {
-        bool inside = true;
-        for (int i = 0; i < dofs_per_node and inside; ++i)
-        {
-          const std::int32_t row = dofs_[dofs_per_node * row_node_[r] + i];
-          for (int j = 0; j < dofs_per_node and inside and row >= 0; ++j)
-          {
-            const std::int32_t col = dofs_[dofs_per_node * col_node_[p] + j];
-            if (col < 0)
-              continue;
-            // a node's columns are consecutive in the pattern: the slot
-            // after the previous column's, when it holds this column
-            const std::int64_t* previous
-                = j > 0 ? &slots_.position[block_size * p + dofs_per_node * i + j - 1] : nullptr;
-            const std::int64_t slot = previous and *previous >= 0
-                                              and column_at(row, *previous + 1) == col
-                                          ? *previous + 1
-                                          : slot_of(row, col);
-            inside = slot >= 0;
-            slots_.position[block_size * p + dofs_per_node * i + j] = slot;
-          }
-        }
-        slots_.block_direct[p] = inside;
-        // contiguous when every row of the block has its 9 slots side by
-        // side (all columns free, consecutive in the pattern, one part)
-        bool contiguous = inside;
-        for (int i = 0; i < dofs_per_node and contiguous; ++i)
-        {
-          const std::int64_t* at = &slots_.position[block_size * p + dofs_per_node * i];
-          for (int j = 0; j < dofs_per_node and contiguous; ++j)
-            contiguous = at[0] >= 0 and at[j] == at[0] + j
-                         and (at[0] < static_cast<std::int64_t>(slots_.diagonal_size))
-                                 == (at[j] < static_cast<std::int64_t>(slots_.diagonal_size));
-        }
-        slots_.block_rows_contiguous[p] = contiguous;
+        const std::int64_t* at = &slots_.position[block_size * p + dofs_per_node * i];
+        for (int j = 0; j < dofs_per_node and contiguous; ++j)
+          contiguous = at[0] >= 0 and at[j] == at[0] + j
+                       and (at[0] < static_cast<std::int64_t>(slots_.diagonal_size))
+                               == (at[j] < static_cast<std::int64_t>(slots_.diagonal_size));
       }
+      slots_.block_rows_contiguous[p] = contiguous;
     }
   }
-  check(MatRestoreRowIJ(diagonal, 0, PETSC_FALSE, PETSC_FALSE, &d.n, &d.ia, &d.ja, &d.done),
-        "MatRestoreRowIJ");
-  if (off_diagonal)
-    check(MatRestoreRowIJ(off_diagonal, 0, PETSC_FALSE, PETSC_FALSE, &o.n, &o.ia, &o.ja,
-                          &o.done),
-          "MatRestoreRowIJ");
+}
+
+void NodeBlockMatrix::setup_off_rank(Mat A)
+{
+  std::vector<std::int32_t> rows, cols;
+  rows.reserve(dofs_per_node * slots_.off_rank.size());
+  cols.reserve(dofs_per_node * slots_.off_rank.size());
+  for (const std::int32_t p : slots_.off_rank)
+  {
+    const std::int32_t* r = dofs_.data() + dofs_per_node * row_node_[block_row_[p]];
+    const std::int32_t* c = dofs_.data() + dofs_per_node * col_node_[p];
+    rows.insert(rows.end(), r, r + dofs_per_node);
+    cols.insert(cols.end(), c, c + dofs_per_node);
+  }
+  off_rank_.setup(A, dofs_per_node, rows, cols);
 }
 
 void NodeBlockMatrix::insert(Mat A)
@@ -308,19 +270,31 @@ void NodeBlockMatrix::insert(Mat A)
   using assembly::check;
   PetscObjectState state;
   check(MatGetNonzeroState(A, &state), "MatGetNonzeroState");
-  if (slots_.matrix != A or slots_.nonzero_state != state)
+  const bool stale = slots_.matrix != A or slots_.nonzero_state != state;
+  // on an mpiaij matrix of several ranks the blocks of other ranks' rows
+  // go to their owners: every rank takes part, and all locate again when
+  // one has a new layout or pattern
+  MPI_Comm comm;
+  check(PetscObjectGetComm(reinterpret_cast<PetscObject>(A), &comm), "PetscObjectGetComm");
+  int comm_size = 1;
+  MPI_Comm_size(comm, &comm_size);
+  const bool exchange = comm_size > 1 and assembly::has_type(A, MATMPIAIJ);
+  if (stale)
     locate(A);
+  if (exchange)
+  {
+    int any_stale = stale;
+    MPI_Allreduce(MPI_IN_PLACE, &any_stale, 1, MPI_INT, MPI_LOR, comm);
+    if (any_stale)
+      setup_off_rank(A);
+  }
   if (slots_.direct)
   {
     // each block summed once into its slots (an element-by-element sum
     // into the matrix would touch its scattered slots several times more)
-    Mat diagonal = A, off_diagonal = nullptr;
-    if (slots_.parallel)
-      check(MatMPIAIJGetSeqAIJ(A, &diagonal, &off_diagonal, nullptr), "MatMPIAIJGetSeqAIJ");
-    PetscScalar *ad = nullptr, *ao = nullptr;
-    check(MatSeqAIJGetArray(diagonal, &ad), "MatSeqAIJGetArray");
-    if (off_diagonal)
-      check(MatSeqAIJGetArray(off_diagonal, &ao), "MatSeqAIJGetArray");
+    assembly::AijValues a(A, static_cast<std::int64_t>(slots_.diagonal_size));
+    double* ad = a.diagonal();
+    double* ao = a.off_diagonal();
     const std::int64_t nd = static_cast<std::int64_t>(slots_.diagonal_size);
     // in block order, which is the matrix's row order: its arrays are then
     // walked forward instead of at random
@@ -344,27 +318,31 @@ void NodeBlockMatrix::insert(Mat A)
       }
       else
         for (int k = 0; k < block_size; ++k)
-        {
-          if (slot[k] < 0)
-            continue;
-          if (slot[k] < nd)
-            ad[slot[k]] += v[k];
-          else
-            ao[slot[k] - nd] += v[k];
-        }
+          if (slot[k] >= 0)
+            a[slot[k]] += v[k];
       block_touched_[p] = 0;
     }
-    check(MatSeqAIJRestoreArray(diagonal, &ad), "MatSeqAIJRestoreArray");
-    if (off_diagonal)
-      check(MatSeqAIJRestoreArray(off_diagonal, &ao), "MatSeqAIJRestoreArray");
   }
-  // the rest (other ranks' rows, new entries, other types): MatSetValues
-  // after the arrays are given back, as it may reallocate them
+  if (exchange)
+  {
+    const std::span<const std::int32_t> off_rank(slots_.off_rank);
+    for (const std::int32_t p : off_rank)
+      off_rank_counts_.sent += block_touched_[p];
+    off_rank_.add(A, off_rank, block_touched_, values_);
+    for (const std::int32_t p : off_rank)
+      block_touched_[p] = 0;
+  }
+  // the rest (new entries, other types, other ranks' rows without the
+  // exchange): MatSetValues after the arrays are given back, as it may
+  // reallocate them
   for (const std::int32_t p : touched_)
   {
     const std::int32_t r = block_row_[p];
     if (!block_touched_[p] or !row_touched_[r])
       continue;
+    if (!slots_.row_owned.empty() and !slots_.row_owned[r])
+      for (std::size_t b = row_start_[r]; b < row_start_[r + 1]; ++b)
+        off_rank_counts_.stashed += block_touched_[b];
     insert_row(A, r, true);
     for (std::size_t b = row_start_[r]; b < row_start_[r + 1]; ++b)
       block_touched_[b] = 0;

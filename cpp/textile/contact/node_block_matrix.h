@@ -22,13 +22,16 @@
 // matrix's own value arrays is therefore located once per matrix pattern
 // (the matrix and its nonzero state; MatGetRowIJ, MatMPIAIJGetSeqAIJ), and
 // each summed block is added straight into those arrays. Blocks of rows
-// owned by another rank, blocks outside the pattern and other matrix
-// types go through MatSetValues (which stashes or allocates as PETSc
-// does).
+// owned by another rank are sent to it and added there the same way
+// (assembly/off_rank_blocks.h: collective, so insert() is too on an mpiaij
+// matrix); blocks outside the pattern and other matrix types go through
+// MatSetValues (which allocates as PETSc does).
 //
 // Works for any AIJ matrix addressed by global indices (a block size of 9
 // is not assumed: a scene's matrix may stack fields of block sizes 9 and 3).
 #pragma once
+
+#include "../assembly/off_rank_blocks.h"
 
 #include <petscmat.h>
 
@@ -62,8 +65,17 @@ public:
   void add(std::size_t e, std::span<const double> K);
 
   /// A[rows, cols] += the blocks added since the last call (ADD_VALUES,
-  /// global indices); then clears them.
+  /// global indices); then clears them. Collective on an mpiaij matrix
+  /// (every rank of its communicator calls it, with or without blocks).
   void insert(Mat A);
+
+  /// Blocks of other ranks' rows inserted so far: sent to their owners
+  /// (added in place there), and stashed by MatSetValues (other types).
+  struct OffRankCounts
+  {
+    std::size_t sent = 0, stashed = 0;
+  };
+  const OffRankCounts& off_rank_counts() const { return off_rank_counts_; }
 
   /// Declare every block of the layout (zeros) in a matrix being
   /// preallocated (MATPREALLOCATOR), one call per block row.
@@ -96,8 +108,15 @@ private:
                                           // off-diagonal part after it; -1: constrained
     std::vector<char> block_direct;       // rows owned here, entries inside the pattern
     std::vector<char> block_rows_contiguous; // each row's 9 slots side by side
+    std::vector<char> row_owned;          // block rows owned here (all of them: not mpiaij)
+    std::vector<std::int32_t> off_rank;   // blocks of rows owned elsewhere (mpiaij)
   };
   MatrixSlots slots_;
+  assembly::OffRankBlocks off_rank_; // off_rank blocks, located by their owners
+  OffRankCounts off_rank_counts_;
+
+  /// Hand the off-rank blocks to their owners to locate (collective).
+  void setup_off_rank(Mat A);
 
   /// Locate the slots of every block of the layout in A (AIJ types).
   void locate(Mat A);
