@@ -146,25 +146,34 @@ class SparsityBuilder:
 
     def __init__(self, layout: DofLayout):
         self.layout = layout
-        self._patterns: dict[tuple[int, int], object] = {}
+        # every block's pattern is made here, in the same order on every
+        # rank: making one is collective (it duplicates the communicator),
+        # and a rank without entries in a block (no beam element of its
+        # own) would otherwise make that block at another moment than the
+        # others and hang them
+        fields = layout.fields
+        self._patterns: dict[tuple[int, int], object] = {
+            (i, j): _cpp.la.SparsityPattern(layout.comm, [fi.index_map, fj.index_map],
+                                            [fi.bs, fj.bs])
+            for i, fi in enumerate(fields) for j, fj in enumerate(fields)}
+        self._filled: set[tuple[int, int]] = set()
 
     def set_pattern(self, row: str, col: str, pattern) -> None:
         """Use an existing (unassembled) dolfinx pattern for a block, e.g.
         ``fem.create_sparsity_pattern(form)`` for the matrix field. Must come
-        before any insertion into that block (it would be lost)."""
+        before any insertion into that block (it would be lost). Collective
+        when making the pattern is: call it on every rank."""
         key = (self.layout.index(row), self.layout.index(col))
-        if key in self._patterns:
-            raise RuntimeError(f"sparsity block ({row}, {col}) already exists: set_pattern must "
-                               "come first (add the effect that owns the field first)")
+        if key in self._filled:
+            raise RuntimeError(f"sparsity block ({row}, {col}) already has entries: set_pattern "
+                               "must come first (add the effect that owns the field first)")
         self._patterns[key] = pattern
 
     def pattern(self, row: str, col: str):
-        i, j = self.layout.index(row), self.layout.index(col)
-        if (i, j) not in self._patterns:
-            fi, fj = self.layout.fields[i], self.layout.fields[j]
-            self._patterns[(i, j)] = _cpp.la.SparsityPattern(
-                self.layout.comm, [fi.index_map, fj.index_map], [fi.bs, fj.bs])
-        return self._patterns[(i, j)]
+        """The block's pattern, to insert into (so set_pattern no longer may)."""
+        key = (self.layout.index(row), self.layout.index(col))
+        self._filled.add(key)
+        return self._patterns[key]
 
     def insert(self, row: str, col: str, rows: np.ndarray, cols: np.ndarray) -> None:
         self.pattern(row, col).insert(np.asarray(rows, dtype=np.int32),
@@ -173,9 +182,8 @@ class SparsityBuilder:
     def create_matrix(self) -> PETSc.Mat:
         layout = self.layout
         n = len(layout.fields)
-        names = [f.name for f in layout.fields]
         # empty sub-patterns cost nothing and keep the nested constructor simple
-        grid = [[self.pattern(r, c) for c in names] for r in names]
+        grid = [[self._patterns[(i, j)] for j in range(n)] for i in range(n)]
         bs = [f.bs for f in layout.fields]
         pattern = _cpp.la.SparsityPattern(layout.comm, grid, [layout.maps, layout.maps], [bs, bs])
         pattern.assemble()

@@ -517,7 +517,9 @@ class Model:
     def _assemble_tangent(self, st: State, P: PETSc.Mat, J: PETSc.Mat) -> None:
         P.zeroEntries()
         error = None
-        for e in self.effects:
+        # constant tangents first: P is still assembled then (zeroEntries
+        # keeps it so, the first insertion ends it), see Effect.constant_tangent
+        for e in sorted(self.effects, key=lambda e: not e.constant_tangent):
             # every effect assembles even after another's domain error: some
             # assemblies are collective (contact blocks sent between ranks)
             t0 = time.perf_counter()

@@ -197,6 +197,16 @@ PYBIND11_MODULE(_cpp, m)
       { assembly::add_diagonal(A, cspan(rows), value); },
       py::arg("A"), py::arg("rows"), py::arg("value"), "A[i, i] += value for i in rows (local)");
 
+  m.def(
+      "nonzero_state",
+      [](Mat A)
+      {
+        PetscObjectState state;
+        assembly::check(MatGetNonzeroState(A, &state), "MatGetNonzeroState");
+        return static_cast<long long>(state);
+      },
+      py::arg("A"), "PETSc's counter of A's nonzero pattern: it changes when the pattern does");
+
   m.def("create_preallocator", &assembly::create_preallocator, py::arg("base"),
         py::return_value_policy::take_ownership,
         "MATPREALLOCATOR holding the pattern of base (add entries, then preallocated_matrix)");

@@ -45,3 +45,28 @@ def test_parallel_equals_serial():
     assert its_par == its_ser
     # the displacement is not trivial
     assert np.abs(q_ser[:, :3] - model.mesh.X_global[:, :3]).max() > 0.1
+
+
+def solve_short_fibre(comm):
+    """One element (3 nodes), a tip force: on 2 ranks one rank owns no
+    node and no element (its sparsity blocks stay empty)."""
+    E, R, L = 1.0e9, 1e-3, 0.1
+    fib = textile.straight_fibre([0, 0, 0], [L, 0, 0], R, textile.Material(E, 0.3),
+                                 num_elements=1)
+    model = textile.Model(fib, comm=comm)
+    model.clamp(fib, 0)
+    model.add_force(fib, -1, [0, 1e-3, 0])
+    textile.Solver(model, dict(QUIET)).solve()
+    return model.centreline(fib)[-1], model
+
+
+@pytest.mark.mpi
+def test_a_rank_without_elements():
+    tip, model = solve_short_fibre(MPI.COMM_WORLD)
+    if model.comm.size > 1:
+        owned = model.mesh.bounds[1:] - model.mesh.bounds[:-1]
+        assert min(owned) == 0  # the case meant: a rank owns nothing
+    tip_serial, _ = solve_short_fibre(MPI.COMM_SELF)
+    # the same Newton path on both: equal to round-off
+    assert np.allclose(tip, tip_serial, rtol=0, atol=1e-12 * np.abs(tip_serial).max())
+    assert tip_serial[1] > 0  # it did bend

@@ -282,6 +282,9 @@ def test_same_answer_on_one_and_two_ranks():
         assert np.linalg.norm(a - b) <= 2e-12 * np.linalg.norm(b), key
     # the fibres are held only by the junctions (their section fixes carry
     # no net force), so the junction forces add up to the applied loads
+    # the constant junction tangent is assembled once, then added to
+    # every Newton tangent (FibreMatrixJunctions.jacobian)
+    assert res["stats"]["junction_tangent_assemblies"] == 1
     applied = np.array([0.2 - 0.1, 0.05 + 0.1, -0.1 + 0.2])
     assert np.linalg.norm(res["junction_force"] - applied) <= 1e-9 * np.linalg.norm(applied)
     if MPI.COMM_WORLD.size > 1:

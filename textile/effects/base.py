@@ -56,6 +56,11 @@ class Effect:
     #: and nothing follows the deformation): when every effect of a scene
     #: says so, the solver may factorize with LDL^T.
     symmetric_tangent: bool = False
+    #: True if the effect's tangent does not depend on the state (a
+    #: quadratic energy): the model then calls its jacobian first, while the
+    #: matrix still has its final pattern and is assembled, so the effect
+    #: can add a cached copy in one pass instead of inserting it again.
+    constant_tangent: bool = False
 
     def add_fields(self, model) -> list:
         """New fields this effect brings (e.g. the matrix's function space)."""

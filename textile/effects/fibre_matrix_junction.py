@@ -75,6 +75,7 @@ import numbers
 import numpy as np
 from dolfinx import geometry
 from mpi4py import MPI
+from petsc4py import PETSc
 
 from .. import _cpp
 from .base import Effect, State
@@ -155,6 +156,7 @@ class FibreMatrixJunctions(Effect):
     """
 
     symmetric_tangent = True  # a quadratic penalty potential
+    constant_tangent = True   # ... with constant coefficients (jacobian adds a cached copy)
 
     def __init__(self, model, block: ElasticBlock, fibres=None, particles_per_element=None,
                  stiffness=None, positions=None, section_particles=True):
@@ -264,6 +266,10 @@ class FibreMatrixJunctions(Effect):
                                   if total_couplings else 0.0)
         self.total_weight = comm.allreduce(float(self._weight.sum()), op=MPI.SUM)
         self._set = None
+        #: the constant tangent in A's pattern, and the matrix and pattern it
+        #: was made for (jacobian); how many times it was assembled
+        self._tangent, self._tangent_key = None, None
+        self.tangent_assemblies = 0
 
     # -- Effect interface -------------------------------------------------
     def setup(self, model) -> None:
@@ -312,7 +318,27 @@ class FibreMatrixJunctions(Effect):
                                                 b["beam"], b[self.block.name])
 
     def jacobian(self, state: State, A) -> None:
-        self._set.assemble_matrix(A, state.dofs["beam"], state.dofs[self.block.name])
+        """The junctions' tangent is constant (a quadratic energy): it is
+        assembled once into a copy of A's pattern, which every later call
+        adds to A in one pass over its values (MatAXPY, same pattern), with
+        no kernel, no insertion and nothing sent between ranks. Again when A
+        is a new matrix or its pattern changed (collective)."""
+        if not A.isAssembled():
+            # a pattern being built (the model's base matrix, its first
+            # tangent): insert
+            self._set.assemble_matrix(A, state.dofs["beam"], state.dofs[self.block.name])
+            return
+        key = (A.handle, _cpp.nonzero_state(A))
+        if self._model.comm.allreduce(key != self._tangent_key, op=MPI.LOR):
+            if self._tangent is not None:
+                self._tangent.destroy()
+            self._tangent = A.duplicate(copy=False)
+            self._set.assemble_matrix(self._tangent, state.dofs["beam"],
+                                      state.dofs[self.block.name])
+            self._tangent.assemble()
+            self._tangent_key = key
+            self.tangent_assemblies += 1
+        A.axpy(1.0, self._tangent, structure=PETSc.Mat.Structure.SAME_NONZERO_PATTERN)
 
     def statistics(self) -> dict:
         """Constants of the junction set (the same on every rank, not collective):
@@ -320,10 +346,13 @@ class FibreMatrixJunctions(Effect):
         those outside), "junctions_outside" (particles outside the matrix,
         no junction), "junction_length" (fibre length the junctions stand
         for, sum of w), "junction_off_rank_fraction" (share of (junction,
-        fibre node) couplings whose node the assembling rank does not own)."""
+        fibre node) couplings whose node the assembling rank does not own),
+        "junction_tangent_assemblies" (times the constant tangent was
+        assembled: once per system matrix and pattern, see jacobian)."""
         return {"junctions": self.num_junctions, "junctions_outside": self.num_outside,
                 "junction_length": self.total_weight,
-                "junction_off_rank_fraction": self.off_rank_fraction}
+                "junction_off_rank_fraction": self.off_rank_fraction,
+                "junction_tangent_assemblies": self.tangent_assemblies}
 
     # -- results ------------------------------------------------------------
     def _state(self):
