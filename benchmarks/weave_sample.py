@@ -10,6 +10,7 @@ included), the woven fabric's figures, and writes them to
 
     .venv/bin/python benchmarks/weave_sample.py [--patterns plain "twill 2/2"]
         [--fibres 28] [--yarns 6] [--elements 4] [--spacing 2] [--packing "layers 1"]
+        [--weaving-steps 5]
         [--solver '{"low_rank_tolerance": 1e-8}']
     mpirun -n 2 .venv/bin/python benchmarks/weave_sample.py
 """
@@ -35,11 +36,11 @@ MAT = textile.Material(5.0e9, 0.35)
 
 
 def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, packing: str,
-          solver_options: dict, comm) -> dict:
+          solver_options: dict, comm, weaving_steps: int = 5) -> dict:
     yarn = Yarn(fibres, R, MAT, packing=packing)
     fabric = Fabric(yarn, num_warp=yarns, num_weft=yarns, spacing=spacing * yarn.width,
                     pattern=pattern, elements_per_crossing=elements)
-    weaving = Weaving(fabric, comm=comm)
+    weaving = Weaving(fabric, steps=weaving_steps, comm=comm)
     model = weaving.model
     t0 = time.perf_counter()
     error = ""
@@ -63,8 +64,28 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
     textile.save_state(model, os.path.join(OUT, f"weave_sample_{name}.h5"), solver,
                        fibre_data={"yarn": fabric.fibre_yarn})
     return dict(pattern=pattern, fibres_per_yarn=fibres, packing=packing, spacing_in_widths=spacing,
-                solver_options=solver_options, size=size, wall_seconds=wall, counters=solver.counters,
+                weaving_steps=weaving_steps, solver_options=solver_options, size=size,
+                wall_seconds=wall, counters=solver.counters,
                 steps=steps, summary=summary, error=error)
+
+
+def run_key(r: dict) -> tuple:
+    return (r["pattern"], r.get("fibres_per_yarn"), r.get("packing"), r.get("spacing_in_widths"),
+            r.get("weaving_steps", 5))
+
+
+def earlier_runs(path: str, args) -> list[dict]:
+    """Runs kept from the file (other patterns, spacings, fibre counts,
+    another day), each with its own date, ranks and machine; the cases run
+    now replace theirs."""
+    if not os.path.exists(path):
+        return []
+    with open(path) as f:
+        before = json.load(f)
+    now = {(p, args.fibres, args.packing, args.spacing, args.weaving_steps)
+           for p in args.patterns}
+    return [dict(dict(date=before.get("date"), ranks=before.get("ranks")), **r)
+            for r in before.get("runs", []) if run_key(r) not in now]
 
 
 def main():
@@ -77,6 +98,8 @@ def main():
     parser.add_argument("--spacing", type=float, default=2.0, help="yarn spacing in yarn widths")
     parser.add_argument("--packing", default="layers 1",
                         help="fibre packing in the yarn section: 'layers n' or 'hexagonal'")
+    parser.add_argument("--weaving-steps", type=int, default=5,
+                        help="steps of the weaving stage (Weaving.steps)")
     parser.add_argument("--solver", type=json.loads, default={},
                         help='solver options as JSON, e.g. \'{"low_rank_tolerance": 1e-8}\'')
     args = parser.parse_args()
@@ -84,11 +107,13 @@ def main():
     os.makedirs(OUT, exist_ok=True)
     if comm.rank == 0:
         print(runtime.describe())
-    runs = []
     path = os.path.join(OUT, "weave_sample.json")
+    runs = earlier_runs(path, args) if comm.rank == 0 else []
     for pattern in args.patterns:
         r = weave(pattern, args.fibres, args.yarns, args.elements, args.spacing, args.packing,
-                  args.solver, comm)
+                  args.solver, comm, args.weaving_steps)
+        r.update(date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), ranks=comm.size,
+                 machine=runtime.describe())
         runs.append(r)
         peak = comm.allreduce(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
         if comm.rank != 0:
@@ -111,9 +136,8 @@ def main():
         print(f"peak memory (sum over ranks) {peak:.0f} MiB")
         # written after every pattern: a long run stopped later keeps its results
         with open(path, "w") as f:
-            json.dump(dict(date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
-                           blas=runtime.blas_info(), ranks=comm.size, runs=runs,
-                           peak_memory_mib=peak), f, indent=1, default=float)
+            json.dump(dict(blas=runtime.blas_info(), runs=runs, peak_memory_mib=peak), f,
+                      indent=1, default=float)
         print(f"wrote {path}")
 
 
