@@ -13,6 +13,12 @@ included), the woven fabric's figures, and writes them to
         [--weaving-steps 5]
         [--solver '{"low_rank_tolerance": 1e-8}']
     mpirun -n 2 .venv/bin/python benchmarks/weave_sample.py
+
+The figures of benchmarks/README.md (2 ranks): the plain weave with
+``--patterns plain --solver '{"low_rank_tolerance": 1e-8}'``; the 2/2 twill
+3 yarn widths apart (2 widths apart its first weaving step does not
+converge in 0.2 or 0.1 of the stage) with ``--patterns "twill 2/2"
+--spacing 3 --solver '{"low_rank_tolerance": 1e-6}'``.
 """
 from __future__ import annotations
 
