@@ -566,25 +566,31 @@ class Model:
         """All ranks: (global nodes, 9) current [x0, g1, g2] from a state."""
         return self.mesh.X_global + self._gather_beam(state.u["beam"])
 
-    def beam_global_dofs(self, state: State | None = None) -> np.ndarray:
+    def beam_global_dofs(self, state: State | None = None,
+                         constrained: bool = False) -> np.ndarray:
         """All ranks: global system index of every beam unknown (9 per
         global node), -1 where constrained (the constrained set is fixed for
-        a run; computed once)."""
+        a run; computed once). ``constrained=True``: the constrained ones
+        keep their index too: a residual may write their rows, which
+        :meth:`residual` records as support reactions and then replaces
+        (a tangent must not: its constrained rows are the identity)."""
         if getattr(self, "_beam_global_dofs", None) is None:
             self._beam_global_dofs = self._compute_beam_global_dofs()
-        return self._beam_global_dofs
+        return self._beam_global_dofs[1 if constrained else 0]
 
-    def _compute_beam_global_dofs(self) -> np.ndarray:
+    def _compute_beam_global_dofs(self) -> tuple[np.ndarray, np.ndarray]:
+        """(masked, all): the global dofs with and without -1 at constrained ones."""
         mesh = self.mesh
         nodes = np.arange(mesh.num_nodes_global)
         owners = np.searchsorted(mesh.bounds, nodes, side="right") - 1
-        dofs = self.layout.global_dofs("beam", nodes, owners).ravel()
+        dofs = self.layout.global_dofs("beam", nodes, owners).ravel().astype(np.int32)
         # the one constrained set (prescribed dofs and effects' constraints),
         # from every rank's local part
         local = self._constrained_dofs.get("beam", np.zeros(0, dtype=np.int64))
         unrolled = 9 * mesh.local_to_global[local // 9] + local % 9
-        dofs[np.concatenate(self.comm.allgather(unrolled)).astype(np.int64)] = -1
-        return dofs.astype(np.int32)
+        masked = dofs.copy()
+        masked[np.concatenate(self.comm.allgather(unrolled)).astype(np.int64)] = -1
+        return masked, dofs
 
     def nodal_unknowns(self) -> np.ndarray:
         """Current (global nodes, 9) values [x0, g1, g2] (positions, not

@@ -57,3 +57,7 @@ def test_force_displacement(num_elements):
     # (equilibrium to the Newton tolerance)
     supports = model.reaction(B, 0, "z")[0] + model.reaction(B, -1, "z")[0]
     assert -supports == pytest.approx(curve[-1][1]["contact_force_sum"], rel=1e-6)
+    # fibre A is held at every node: its supports take the whole contact
+    # force (the contact's share of constrained rows counts as reaction)
+    held = sum(model.reaction(A, n, "z")[0] for n in range(A.num_nodes))
+    assert held == pytest.approx(curve[-1][1]["contact_force_sum"], rel=1e-6)

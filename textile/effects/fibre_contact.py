@@ -500,7 +500,8 @@ class FibreContact(Effect):
     def residual_global(self, state: State, b) -> bool:
         q = self.model.beam_positions(state)
         self.set.set_depth_scale(self._depth_scale())  # the load factor of this evaluation
-        self.set.assemble_vector(q, self.model.beam_global_dofs(state), b)
+        # constrained rows too: the model reads them as support reactions
+        self.set.assemble_vector(q, self.model.beam_global_dofs(state, constrained=True), b)
         return True
 
     def jacobian(self, state: State, A) -> None:

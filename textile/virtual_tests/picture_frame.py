@@ -107,6 +107,23 @@ element at the pins), but that is the pins' artefact: the fibres' shear
 angle there runs 3.8 deg ahead of the frame's, and the pins close at any
 spacing.
 
+What stops the 2-fibre sample 2 widths apart (diagnosed 2026-12-01, at
+19 deg): a crossing sits on a node where both fibres kink by 7.6 deg under
+its force. The crossing placed where the fibres face each other
+(vertical_crossing.h) takes its tangents from the element on one side of
+the node or the other as it moves across it between passes, so its normal
+swings by the kink angle (halved by the relocation rule: 4 deg) and the
+Newton solve after that pass diverges (residual from 2 to 50, at any step
+size; with friction 0 the contact loop cycles instead, at the same angle).
+Tangents blended continuously across kinked nodes (branch
+wip/blended-tangent) remove that swing: the 3-fibre sample 3 widths apart
+then reaches 43.9 deg (40.2 before), but the 2-fibre sample stops earlier
+(12.6 deg), on a crossing next to a yarn clamp whose zone turns into a
+line contact (eight elements, 0.46 R deep) and back. These samples have
+their crossings one element from the clamps; locking needs a sample whose
+crossings are far from its clamps, and crossings whose zone kind and
+place do not switch between passes.
+
 Units: those of the fabric; ``angle`` and rotations in radians, reported
 angles in degrees.
 """
