@@ -58,9 +58,12 @@ void BlockInsertion::find_positions(Mat A, std::span<const std::int32_t> indices
   _direct = false;
   PetscBool assembled = PETSC_FALSE;
   check(MatAssembled(A, &assembled), "MatAssembled");
-  _mpi = has_type(A, MATMPIAIJ);
-  if (!assembled or !(_mpi or has_type(A, MATSEQAIJ)))
-    return; // no final pattern yet, or not AIJ: add_block
+  if (!assembled)
+    return; // no final pattern yet: add_block
+  const AijPattern pattern(A);
+  if (!pattern.usable())
+    return; // not AIJ: add_block
+  _diagonal_size = pattern.diagonal_size();
 
   // global numbers of the local indices (negative stay negative)
   ISLocalToGlobalMapping rmap, cmap;
@@ -70,23 +73,7 @@ void BlockInsertion::find_positions(Mat A, std::span<const std::int32_t> indices
         "ISLocalToGlobalMappingApply");
   check(ISLocalToGlobalMappingApply(cmap, indices.size(), indices.data(), cols.data()),
         "ISLocalToGlobalMappingApply");
-  PetscInt rstart, rend, cstart, cend;
-  check(MatGetOwnershipRange(A, &rstart, &rend), "MatGetOwnershipRange");
-  check(MatGetOwnershipRangeColumn(A, &cstart, &cend), "MatGetOwnershipRangeColumn");
-
-  Mat Ad = A, Ao = nullptr;
-  const PetscInt* garray = nullptr; // global column of each off-diagonal column
-  if (_mpi)
-    check(MatMPIAIJGetSeqAIJ(A, &Ad, &Ao, &garray), "MatMPIAIJGetSeqAIJ");
-  RowIJ diag(Ad);
-  std::unique_ptr<RowIJ> off;
-  PetscInt num_off = 0;
-  if (_mpi)
-  {
-    off = std::make_unique<RowIJ>(Ao);
-    PetscInt m;
-    check(MatGetSize(Ao, &m, &num_off), "MatGetSize");
-  }
+  const PetscInt rstart = pattern.row_begin(), rend = pattern.row_end();
 
   const std::size_t bs = block_size, nb = indices.size() / bs;
   _position.assign(nb * bs * bs, -1);
@@ -105,23 +92,12 @@ void BlockInsertion::find_positions(Mat A, std::span<const std::int32_t> indices
       }
       for (std::size_t j = 0; j < bs; ++j)
       {
-        const PetscInt col = cols[b * bs + j];
         if (indices[b * bs + j] < 0)
           continue;
-        std::int32_t pos;
-        if (!_mpi or (col >= cstart and col < cend))
-          pos = diag.csr.find(row - rstart, _mpi ? col - cstart : col);
-        else
-        {
-          const PetscInt* it = std::lower_bound(garray, garray + num_off, col);
-          const std::int32_t p = (it != garray + num_off and *it == col)
-                                     ? off->csr.find(row - rstart, it - garray)
-                                     : -1;
-          pos = p < 0 ? -1 : -2 - p;
-        }
-        if (pos == -1)
+        const std::int64_t slot = pattern.slot(row, cols[b * bs + j]);
+        if (slot < 0)
           return; // outside the pattern: add_block (and its PETSc error)
-        _position[(b * bs + i) * bs + j] = pos;
+        _position[(b * bs + i) * bs + j] = slot;
       }
     }
     if (remote)
@@ -148,11 +124,8 @@ void BlockInsertion::add_blocks(Mat A, std::span<const std::int32_t> indices, in
     find_positions(A, indices, block_size);
   const std::size_t bs = block_size, nb = indices.size() / bs;
 
-  Mat Ad = A, Ao = nullptr;
-  if (_direct and _mpi)
-    check(MatMPIAIJGetSeqAIJ(A, &Ad, &Ao, nullptr), "MatMPIAIJGetSeqAIJ");
-  std::unique_ptr<Values> diag = _direct ? std::make_unique<Values>(Ad) : nullptr;
-  std::unique_ptr<Values> off = (_direct and _mpi) ? std::make_unique<Values>(Ao) : nullptr;
+  std::unique_ptr<AijValues> matrix_values
+      = _direct ? std::make_unique<AijValues>(A, _diagonal_size) : nullptr;
   std::size_t next_remote = 0;
   auto add = [&](std::size_t b, std::span<const double> values)
   {
@@ -162,24 +135,11 @@ void BlockInsertion::add_blocks(Mat A, std::span<const std::int32_t> indices, in
       add_block(A, idx, idx, values);
       return;
     }
-    const std::int32_t* pos = _position.data() + b * bs * bs;
-    PetscScalar* a = diag->data;
-    if (!_mpi)
-    {
-      for (std::size_t k = 0; k < bs * bs; ++k)
-        if (pos[k] >= 0)
-          a[pos[k]] += values[k];
-    }
-    else
-    {
-      for (std::size_t k = 0; k < bs * bs; ++k)
-      {
-        if (pos[k] >= 0)
-          a[pos[k]] += values[k];
-        else if (pos[k] <= -2)
-          off->data[-2 - pos[k]] += values[k];
-      }
-    }
+    const std::int64_t* pos = _position.data() + b * bs * bs;
+    AijValues& a = *matrix_values;
+    for (std::size_t k = 0; k < bs * bs; ++k)
+      if (pos[k] >= 0)
+        a[pos[k]] += values[k];
     if (next_remote < _remote_blocks.size() and _remote_blocks[next_remote] == b)
     {
       // rows of another rank: PETSc's stash (skips the rows marked -1)

@@ -57,11 +57,10 @@ private:
   int _block_size = 0;
   std::vector<std::int32_t> _indices;
   bool _direct = false; // positions valid (else every block through add_block)
-  bool _mpi = false;
-  // per block entry: position in the values of the diagonal part (>= 0), of
-  // the off-diagonal part (-2 - position), or -1 (skipped, or a row of
+  std::int64_t _diagonal_size = 0; // AijPattern's, for AijValues
+  // per block entry: its AijPattern slot, or -1 (skipped, or a row of
   // another rank)
-  std::vector<std::int32_t> _position;
+  std::vector<std::int64_t> _position;
   // blocks with rows owned by another rank: those rows (others -1), added
   // through add_block
   std::vector<std::size_t> _remote_blocks;
