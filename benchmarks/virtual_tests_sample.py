@@ -36,7 +36,7 @@ import textile
 from textile import runtime
 from textile.effects.fibre_contact import FibreContact
 from textile.fabric import Fabric
-from textile.virtual_tests import Bending, Shear, Twisting
+from textile.virtual_tests import Bending, IncompleteTest, Shear, Twisting
 from textile.yarn import Yarn
 
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "output")
@@ -102,8 +102,9 @@ def run_test(name: str, fabric, woven: str, steps: int, args, comm, progress) ->
         t0 = time.perf_counter()
         try:
             result = test.run()
-        except textile.ConvergenceError as e:
-            error, result = str(e), None
+        except IncompleteTest as e:
+            # the steps done still count (figures of that range)
+            error, result = str(e), e.result
         wall = time.perf_counter() - t0
     assembly = {f"{effect} {kind}": seconds
                 for (effect, kind), seconds in sorted(model.effect_seconds.items())}

@@ -274,3 +274,34 @@ def test_yarn_pins_parallel_equals_serial(woven_mpi):
                           [np.array([s["fibre_shear_angle"] for s in r.steps]) for r in runs])
     assert np.abs(ys - yp).max() < 1e-8 * np.abs(ys).max()
     assert np.abs(fs - fp).max() < 1e-8 * np.abs(fs).max()
+
+
+def test_a_stopped_test_keeps_what_it_did(tmp_path):
+    """A test that cannot reach its last step raises IncompleteTest (a
+    ConvergenceError: never taken for a finished test) carrying the
+    converged steps' result, also written out. Monofilaments 4 widths
+    apart pulled towards 60 deg stop near 33 deg (the limit point above;
+    min_step 0.05 makes the failure quick: about 7 s)."""
+    from textile.virtual_tests import IncompleteTest
+
+    woven4 = weave(str(tmp_path / "woven4.h5"), spacing=4.0)
+    out = str(tmp_path / "frame")
+    test = PictureFrame(fabric(4.0), woven4, angle=math.radians(60.0), steps=6,
+                        comm=MPI.COMM_SELF, output=out,
+                        solver_options=dict(QUIET, min_step=0.05))
+    with pytest.raises(IncompleteTest) as stopped:
+        test.run()
+    assert isinstance(stopped.value, textile.ConvergenceError)
+    result = stopped.value.result
+    done = len(result.steps)
+    assert done >= 1 and result.steps[-1]["load_factor"] < 1.0
+    assert f"after {done} loading steps" in str(stopped.value)
+    # the released state and every converged step, below the angle asked
+    assert len(result.curve.x) == done + 1 and result.curve.x[-1] < 60.0
+    assert result.figures["shear stiffness (normalized force per radian)"] > 0
+    assert result.counters["failed_attempts"] > 0
+    if MPI.COMM_WORLD.rank == 0:
+        import json
+        with open(f"{out}/picture_frame.json") as f:
+            saved = json.load(f)
+        assert len(saved["steps"]) == done and saved["curve"]["x"] == result.curve.x

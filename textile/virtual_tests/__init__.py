@@ -8,7 +8,7 @@ from .picture_frame import PictureFrame
 from .shear import Shear
 from .tension import Tension
 from .twisting import Twisting
-from .virtual_test import VirtualTest, VirtualTestResult, figures_table
+from .virtual_test import IncompleteTest, VirtualTest, VirtualTestResult, figures_table
 
-__all__ = ["Bending", "LoadCurve", "PictureFrame", "Shear", "Tension", "Twisting", "VirtualTest",
+__all__ = ["Bending", "IncompleteTest", "LoadCurve", "PictureFrame", "Shear", "Tension", "Twisting", "VirtualTest",
            "VirtualTestResult", "figures_table"]

@@ -24,7 +24,7 @@ from ..fabric import Fabric
 from ..loading import Stage
 from ..material import Material
 from ..sample import Sample
-from ..solver import Solver
+from ..solver import ConvergenceError, Solver
 from .load_curve import LoadCurve
 
 
@@ -93,6 +93,18 @@ class VirtualTestResult:
                                                self.fibre_loads.get("most_loaded", [])[:20]]),
                       f, indent=1, default=float)
         return paths + [path]
+
+
+class IncompleteTest(ConvergenceError):
+    """A virtual test stopped before its last load step (a step failed even
+    with the smallest increment). ``result`` holds what the converged steps
+    gave (curve, steps, figures of that range, counters), already written to
+    the test's output directory if it has one: nothing computed is lost,
+    and nothing passes for a finished test."""
+
+    def __init__(self, message: str, result: "VirtualTestResult"):
+        super().__init__(message)
+        self.result = result
 
 
 def figures_table(results: dict) -> str:
@@ -224,7 +236,10 @@ class VirtualTest:
                 float(np.linalg.norm(total[3:6]) / m) if m > 0 else 0.0)
 
     def run(self) -> VirtualTestResult:
-        """Release (or settle), then load step by step; the result (collective)."""
+        """Release (or settle), then load step by step; the result
+        (collective). A step that fails even with the smallest increment
+        raises :class:`IncompleteTest`, whose ``result`` holds the steps
+        done (written out like a finished test's)."""
         targets = self.drive()
         stages = [Stage(self.name, ramp=targets,
                         solver=dict(initial_step=1.0 / self.steps, max_step=1.0 / self.steps))]
@@ -264,10 +279,25 @@ class VirtualTest:
         output = self.sample.output(self.output_dir) if self.output_dir else None
         solver = Solver(self.sample.model, self.solver_options, output=output, on_step=record)
         t0 = time.perf_counter()
-        solver.run(stages)
+        try:
+            solver.run(stages)
+        except ConvergenceError as error:
+            # keep what the converged steps gave, flagged as incomplete
+            self._finish(result, solver, t0)
+            raise IncompleteTest(
+                f"{self.name} stopped at load factor "
+                f"{result.steps[-1]['load_factor'] if result.steps else 0.0:.6g} of 1 after "
+                f"{len(result.steps)} loading steps"
+                f"{'; what it did is in ' + self.output_dir if self.output_dir else ''}: "
+                f"{error}", result) from error
+        self._finish(result, solver, t0)
+        return result
+
+    def _finish(self, result: VirtualTestResult, solver: Solver, t0: float) -> None:
+        """Wall time, counters and figures of the steps done; written out."""
         result.wall_seconds = time.perf_counter() - t0
         result.counters = solver.counters
-        result.figures = self.summarize(result)
-        if self.output_dir and self.comm.rank == 0:
+        # a curve needs the released state and a loading step
+        result.figures = self.summarize(result) if result.steps else {}
+        if self.output_dir and self.comm.rank == 0 and result.curve.x:
             result.write(self.output_dir)
-        return result
