@@ -47,6 +47,8 @@ def woven(tmp_path_factory):
 @pytest.fixture(scope="module")
 def bending(woven):
     test = Bending(fabric(), woven, ANGLE, steps=STEPS, comm=MPI.COMM_SELF, **OPTIONS)
+    test.on_step = lambda solver, rec: test.seen.append((rec.stage, rec.load_factor))
+    test.seen = []
     return test, test.run()
 
 
@@ -77,6 +79,8 @@ def test_composite_release(bending):
     assert isinstance(test.sample, textile.composite.Composite)
     assert len(result.curve) == STEPS + 1 and len(result.steps) == STEPS
     assert [s["load_factor"] for s in result.steps] == pytest.approx([1 / 3, 2 / 3, 1.0])
+    # on_step (progress of long runs) hears of every step, the release's too
+    assert [stage for stage, _ in test.seen] == ["release"] * 2 + [test.name] * STEPS
 
 
 def test_bending_moment_against_the_matrix_plate(bending):

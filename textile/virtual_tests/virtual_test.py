@@ -254,12 +254,12 @@ class VirtualTest:
                                    fibre_yarn=np.asarray(self.sample.fabric.fibre_yarn))
 
         def record(solver, rec):
-            if rec.stage != self.name:   # the release or settling stage
-                if rec.load_factor < 1.0:
-                    return
-                s = 0.0
-            else:
-                s = rec.load_factor
+            if rec.stage != self.name and rec.load_factor < 1.0:
+                # inside the release: no point of the curve yet
+                if self.on_step is not None:
+                    self.on_step(solver, rec)
+                return
+            s = rec.load_factor if rec.stage == self.name else 0.0
             x, y, figures = self.measure(s)
             curve.add(x, y)
             if rec.stage == self.name:
