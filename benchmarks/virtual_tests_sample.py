@@ -20,6 +20,11 @@ later keeps what it did; tests not run again keep their earlier entry).
     mpirun -n 2 .venv/bin/python benchmarks/virtual_tests_sample.py
         [--tests shear bending twisting] [--steps-shear 30] [--steps-rotation 15]
         [--solver '{"low_rank_tolerance": 1e-8}']
+
+Run the composite tests one per invocation on the 336-fibre sample: each
+holds about 7 GB a rank, and a second test in the same process starts
+before the first one's scene is freed (the twisting after the bending was
+killed for memory at 12.5 GB on rank 0, 2026-12-01).
 """
 from __future__ import annotations
 
