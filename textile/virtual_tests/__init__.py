@@ -10,5 +10,5 @@ from .tension import Tension
 from .twisting import Twisting
 from .virtual_test import IncompleteTest, VirtualTest, VirtualTestResult, figures_table
 
-__all__ = ["Bending", "IncompleteTest", "LoadCurve", "PictureFrame", "Shear", "Tension", "Twisting", "VirtualTest",
-           "VirtualTestResult", "figures_table"]
+__all__ = ["Bending", "IncompleteTest", "LoadCurve", "PictureFrame", "Shear", "Tension",
+           "Twisting", "VirtualTest", "VirtualTestResult", "figures_table"]

@@ -253,12 +253,7 @@ class VirtualTest:
         result = VirtualTestResult(self.name, curve,
                                    fibre_yarn=np.asarray(self.sample.fabric.fibre_yarn))
 
-        def record(solver, rec):
-            if rec.stage != self.name and rec.load_factor < 1.0:
-                # inside the release: no point of the curve yet
-                if self.on_step is not None:
-                    self.on_step(solver, rec)
-                return
+        def add_point(rec):
             s = rec.load_factor if rec.stage == self.name else 0.0
             x, y, figures = self.measure(s)
             curve.add(x, y)
@@ -273,6 +268,11 @@ class VirtualTest:
                     most_loaded_fibre=top,
                     **{k: float(loads[k][top]) for k in FIGURES}, **figures))
                 result.fibre_loads = loads
+
+        def record(solver, rec):
+            # the curve starts where the release (or settling) ends
+            if rec.stage == self.name or rec.load_factor >= 1.0:
+                add_point(rec)
             if self.on_step is not None:
                 self.on_step(solver, rec)
 
