@@ -166,17 +166,21 @@ void declare_contact(py::module_& m)
       [](const carray<double>& q, const carray<std::int64_t>& first_node, int order,
          const carray<double>& radius, double delta_factor, double self_exclusion, double spacing,
          double parallel_angle, const py::object& held, const WeavingOrder* weaving,
-         const carray<double>& wraps)
+         const carray<double>& zones)
       {
         Geometry geo(q, first_node, order, radius);
         const SectionVectors g{geo.g};
-        if (wraps.size() % 4 != 0)
-          throw std::invalid_argument("detect_contacts: wraps must be (n, 4)");
-        std::vector<WrapMark> marks(wraps.size() / 4);
+        if (zones.size() % 5 != 0)
+          throw std::invalid_argument("detect_contacts: zones must be (n, 5)");
+        std::vector<ZoneMark> marks(zones.size() / 5);
         for (std::size_t k = 0; k < marks.size(); ++k)
         {
-          const double* w = wraps.data() + 4 * k;
-          marks[k] = {static_cast<int>(w[0]), static_cast<int>(w[1]), w[2], w[3]};
+          const double* w = zones.data() + 5 * k;
+          const int kind = static_cast<int>(w[4]);
+          if (kind < 0 or kind > 2)
+            throw std::invalid_argument("detect_contacts: a zone's kind must be 0, 1 or 2");
+          marks[k] = {static_cast<int>(w[0]), static_cast<int>(w[1]), w[2], w[3],
+                      static_cast<ZoneKind>(kind)};
         }
         Detection d = detect(geo.lines, g, delta_factor, self_exclusion, spacing, parallel_angle,
                              weaving, marks);
@@ -187,13 +191,14 @@ void declare_contact(py::module_& m)
       py::arg("q"), py::arg("first_node"), py::arg("order"), py::arg("radius"),
       py::arg("delta_factor"), py::arg("self_exclusion"), py::arg("spacing"),
       py::arg("parallel_angle"), py::arg("held") = py::none(), py::arg("weaving") = nullptr,
-      py::arg("wraps") = carray<double>(),
+      py::arg("zones") = carray<double>(),
       "One detection pass on the current nodal unknowns q (nodes x 9): a Detection. `held`: "
       "contacts of the last pass not to lose (ContactSet.contacts_to_hold, gathered from "
       "every rank), kept as zones of their own where detection finds none. `weaving`: the "
-      "WeavingOrder of the weaving mode (its ordered pairs keep point crossings). `wraps`: "
-      "(n, 4) fibre_i, fibre_j, s_i, s_j of the last pass's wraps, gathered from every rank "
-      "(ContactSet.wrap_marks): the wrap criterion's hysteresis.");
+      "WeavingOrder of the weaving mode (its ordered pairs keep point crossings). `zones`: "
+      "(n, 5) fibre_i, fibre_j, s_i, s_j, kind (0 crossing, 1 wrap, 2 line contact) of the "
+      "last pass's zones, gathered from every rank (ContactSet.zone_marks): the hysteresis of "
+      "the wrap and crossing criteria.");
 
   py::class_<WeavingOrder>(m, "WeavingOrder",
                            "Crossing order of the weaving stage: fibre -> yarn, and "
@@ -343,15 +348,16 @@ void declare_contact(py::module_& m)
       .def("zone_penalty", [](const ContactSet& self) { return array_of(self.zone_penalty()); })
       .def("zone_force", [](const ContactSet& self) { return array_of(self.zone_force()); })
       .def("zone_crossed", [](const ContactSet& self) { return array_of(self.zone_crossed()); })
-      .def("wrap_marks",
+      .def("zone_marks",
            [](const ContactSet& self)
            {
-             const auto marks = wrap_marks(self);
-             carray<double> out({marks.size(), std::size_t(4)});
+             const auto marks = zone_marks(self);
+             carray<double> out({marks.size(), std::size_t(5)});
              for (std::size_t k = 0; k < marks.size(); ++k)
                for (const auto& [c, v] : {std::pair{0, double(marks[k].fibre_i)},
                                           std::pair{1, double(marks[k].fibre_j)},
-                                          std::pair{2, marks[k].s_i}, std::pair{3, marks[k].s_j}})
+                                          std::pair{2, marks[k].s_i}, std::pair{3, marks[k].s_j},
+                                          std::pair{4, double(static_cast<int>(marks[k].kind))}})
                  out.mutable_at(k, c) = v;
              return out;
            },

@@ -83,8 +83,10 @@ def test_zone_force_continuous_from_crossing_to_line():
     rows = crossing_turned_to_parallel(dict(adapt_penalty=False, penalty=2e4))
     kinds = [r[2] for r in rows]
     flip = kinds.index(False)
-    assert all(kinds[:flip]) and not any(kinds[flip:])  # one change of kind, at 10 degrees
-    assert rows[flip - 1][0] >= 10.0 > rows[flip][0]
+    # one change of kind, at 7.5 degrees: a crossing stays one down to
+    # (1 - crossing_bias) parallel_angle (the kinds' hysteresis, detection.h)
+    assert all(kinds[:flip]) and not any(kinds[flip:])
+    assert (rows[flip - 1][0], rows[flip][0]) == pytest.approx((7.5, 7.0))  # 0.5 deg a step
     assert rows[flip][3] == 1  # the zone's penalty was converted once
     before, after = rows[flip - 1][1], rows[flip][1]
     # continuous within 1% (measured 0.08%, half a degree further; without the

@@ -294,13 +294,13 @@ class FibreContact(Effect):
 
     # -- detection and history -----------------------------------------------
     def _detect(self, q: np.ndarray, held: dict | None = None,
-                wraps: np.ndarray | None = None):
+                zones: np.ndarray | None = None):
         mesh = self.model.mesh
         return _cpp.detect_contacts(q, mesh.first_node, mesh.order, self.radius,
                                     self.options.search_factor, self.self_exclusion,
                                     self.spacing, math.radians(self.options.parallel_angle),
                                     held, self._order if self.mode == "weaving" else None,
-                                    np.zeros((0, 4)) if wraps is None else wraps)
+                                    np.zeros((0, 5)) if zones is None else zones)
 
     def _contacts_to_hold(self, q: np.ndarray) -> dict:
         """The closed elements of every rank (at the set's last evaluation)
@@ -314,10 +314,11 @@ class FibreContact(Effect):
         parts = comm.allgather(mine)
         return {k: np.concatenate([p[k] for p in parts]) for k in mine}
 
-    def _wrap_marks(self) -> np.ndarray:
-        """One element of each wrap of the last pass, from every rank: the
-        hysteresis of the wrap criterion (detection.h)."""
-        mine = self.set.wrap_marks()
+    def _zone_marks(self) -> np.ndarray:
+        """One element of each zone of the last pass and its kind, from
+        every rank: the hysteresis of the wrap and crossing criteria
+        (detection.h)."""
+        mine = self.set.zone_marks()
         comm = self.model.comm
         return mine if comm.size == 1 else np.concatenate(comm.allgather(mine))
 
@@ -332,7 +333,7 @@ class FibreContact(Effect):
         o, mesh, comm = self.options, self.model.mesh, self.model.comm
         old = self.set
         old.evaluate(q)  # elastic slips, zone forces and held contacts from this state
-        found = self._detect(q, self._contacts_to_hold(q), self._wrap_marks())
+        found = self._detect(q, self._contacts_to_hold(q), self._zone_marks())
         self.held_contacts += found.held
         before = old.nodal_forces(q)
         new, inherited = old.next(found, q, mesh.first_node, mesh.order, self.radius, self.k0,

@@ -7,7 +7,7 @@ namespace textile::contact
 {
 Detection detect(const Centrelines& c, const SectionVectors& g, double delta_factor,
                  double self_exclusion, double spacing, double parallel_angle,
-                 const WeavingOrder* weaving, std::span<const WrapMark> previous_wraps)
+                 const WeavingOrder* weaving, std::span<const ZoneMark> previous)
 {
   Detection d;
   d.zones = find_proximity_zones(c, delta_factor, self_exclusion);
@@ -15,17 +15,22 @@ Detection detect(const Centrelines& c, const SectionVectors& g, double delta_fac
   {
     const ProximityZone& zone = d.zones[z];
     const bool ordered = weaving and weaving->sign(zone.fibre_i, zone.fibre_j) != 0;
-    const bool was_wrap = std::any_of(
-        previous_wraps.begin(), previous_wraps.end(),
-        [&](const WrapMark& w)
-        {
-          return w.fibre_i == zone.fibre_i and w.fibre_j == zone.fibre_j
-                 and w.s_i >= zone.a_i - 1 and w.s_i <= zone.b_i + 1 and w.s_j >= zone.a_j - 1
-                 and w.s_j <= zone.b_j + 1;
-        });
+    // the last pass's kinds of zone here (within one element on both fibres)
+    bool was_wrap = false, was_crossing = false, was_line = false;
+    for (const ZoneMark& m : previous)
+      if (m.fibre_i == zone.fibre_i and m.fibre_j == zone.fibre_j and m.s_i >= zone.a_i - 1
+          and m.s_i <= zone.b_i + 1 and m.s_j >= zone.a_j - 1 and m.s_j <= zone.b_j + 1)
+      {
+        was_wrap = was_wrap or m.kind == ZoneKind::wrap;
+        was_crossing = was_crossing or m.kind == ZoneKind::crossing;
+        was_line = was_line or m.kind == ZoneKind::line;
+      }
     const double wrap_angle = ordered ? -1.0 : was_wrap ? 0.5 * parallel_angle : parallel_angle;
+    // a zone that was a point contact (crossing or wrap) stays one with a
+    // margin; a line contact alone becomes one only past the margin
+    const double bias = (was_crossing or was_wrap) ? crossing_bias : was_line ? -crossing_bias : 0.0;
     for (auto& p : contact_points(c, g, zone, spacing, parallel_angle, delta_factor,
-                                  Eigen::Vector3d::Zero(), wrap_angle))
+                                  Eigen::Vector3d::Zero(), wrap_angle, bias))
     {
       d.points.push_back(p);
       d.zone_of_point.push_back(static_cast<int>(z));
@@ -50,15 +55,18 @@ ContactElementState restore_element(const Centrelines& c, const SavedElement& sa
   return e;
 }
 
-std::vector<WrapMark> wrap_marks(const ContactSet& set)
+std::vector<ZoneMark> zone_marks(const ContactSet& set)
 {
-  std::vector<WrapMark> out;
+  std::vector<ZoneMark> out;
   std::vector<char> seen(set.num_zones(), 0);
   for (const auto& e : set.elements())
-    if (e.wrap and !seen[e.zone])
+    if (!seen[e.zone])
     {
       seen[e.zone] = 1;
-      out.push_back({e.fibre_i, e.fibre_j, e.s_i, e.s_j});
+      const ZoneKind kind = e.wrap ? ZoneKind::wrap
+                            : e.crossing ? ZoneKind::crossing
+                                         : ZoneKind::line;
+      out.push_back({e.fibre_i, e.fibre_j, e.s_i, e.s_j, kind});
     }
   return out;
 }

@@ -23,33 +23,47 @@ struct Detection
   int held = 0; ///< points added by add_held_contacts (held_contact.h)
 };
 
-/// Where the last pass had a wrap (wrap_contact.h): the fibres and
+/// What a zone of the last pass was: a crossing, a wrap (wrap_contact.h)
+/// or a line contact.
+enum class ZoneKind : int
+{
+  crossing = 0,
+  wrap = 1,
+  line = 2
+};
+
+/// Where the last pass had a zone, and of which kind: the fibres and
 /// abscissas of one of its elements.
-struct WrapMark
+struct ZoneMark
 {
   int fibre_i = 0, fibre_j = 0;
   double s_i = 0, s_j = 0;
+  ZoneKind kind = ZoneKind::crossing;
 };
 
-/// One element of each of the set's wraps (this rank's; gather them from
+/// One element of each of the set's zones (this rank's; gather them from
 /// every rank for detect, which is replicated).
-std::vector<WrapMark> wrap_marks(const ContactSet& set);
+std::vector<ZoneMark> zone_marks(const ContactSet& set);
 
 /// Find zones closer than delta_factor (r_i + r_j) and place their contact
 /// elements (see contact_points; parallel_angle in radians). A crossing zone
 /// becomes a wrap when a fibre turns by more than parallel_angle over it,
 /// or by more than half that where the last pass had a wrap
-/// (`previous_wraps`, within one element on both fibres): a fibre pressed
+/// (`previous`, within one element on both fibres): a fibre pressed
 /// at one point kinks, spread along a wrap it straightens, and without this
 /// hysteresis a zone near the threshold would flip between the two kinds
-/// from pass to pass. Pairs that `weaving` orders (weaving_order.h) keep
+/// from pass to pass. The crossing criterion (is_crossing) has the same
+/// hysteresis: a zone that was a crossing or a wrap stays one until the
+/// criterion fails by a margin, and a line contact becomes a crossing only
+/// past a margin (crossing_bias); a crossing pressed deep next to a fibre
+/// end would otherwise flip to a line contact of many elements and back. Pairs that `weaving` orders (weaving_order.h) keep
 /// point crossings, never wraps: their vertical normal measures the
 /// penetration through the crossing, while along a wrap, away from it, the
 /// vertical distance between facing points is no penetration.
 Detection detect(const Centrelines& c, const SectionVectors& g, double delta_factor,
                  double self_exclusion, double spacing, double parallel_angle,
                  const WeavingOrder* weaving = nullptr,
-                 std::span<const WrapMark> previous_wraps = {});
+                 std::span<const ZoneMark> previous = {});
 
 /// A contact element rebuilt from its saved values (a saved state, see
 /// FibreContact.save_state): fibres, abscissas and section coordinates of

@@ -91,6 +91,21 @@ Eigen::Vector3d unit_tangent(const Centrelines& c, int f, double s)
   return (c.tangent(f, s).normalized() + c.tangent_left(f, s).normalized()).normalized();
 }
 
+Eigen::Vector3d blended_tangent(const Centrelines& c, int f, double s)
+{
+  const double node = std::round(s);
+  const double off = std::abs(s - node);
+  const Eigen::Vector3d t = c.tangent(f, s).normalized();
+  if (off >= kink_blend or node <= 0 or node >= c.num_elements(f))
+    return t;
+  // the jump of unit tangents at the node, from this side to the other
+  const Eigen::Vector3d right = c.tangent(f, node).normalized();
+  const Eigen::Vector3d left = c.tangent_left(f, node).normalized();
+  const Eigen::Vector3d jump = s < node ? Eigen::Vector3d(right - left)
+                                        : Eigen::Vector3d(left - right);
+  return (t + 0.5 * (1.0 - off / kink_blend) * jump).normalized();
+}
+
 Eigen::Vector3d mean_tangent(const Eigen::Vector3d& ti, const Eigen::Vector3d& tj)
 {
   const Eigen::Vector3d t = ti + (ti.dot(tj) >= 0 ? tj : Eigen::Vector3d(-tj));
@@ -177,18 +192,18 @@ void place_particles(const Centrelines& c, const SectionVectors& g, ContactPoint
 }
 
 bool is_crossing(const Centrelines& c, const ProximityZone& z, double parallel_angle,
-                 double delta_factor)
+                 double delta_factor, double bias)
 {
   const Eigen::Vector3d ti = unit_tangent(c, z.fibre_i, z.s_i);
   const Eigen::Vector3d tj = unit_tangent(c, z.fibre_j, z.s_j);
   const double sin_angle = ti.cross(tj).norm();
-  if (sin_angle <= std::sin(parallel_angle))
+  if (sin_angle <= std::sin((1.0 - bias) * parallel_angle))
     return false;
   // A crossing zone ends where the centre lines move apart (distance near
   // the search distance at both ends); fibres that are twisted or wound
   // together stay close up to a fibre end, whatever their angle.
   const double delta = delta_factor * (c.radius[z.fibre_i] + c.radius[z.fibre_j]);
-  const double threshold = 0.5 * (z.min_distance + delta);
+  const double threshold = z.min_distance + (0.5 - bias) * (delta - z.min_distance);
   const double d0 = (c.position(z.fibre_i, z.a_i) - c.position(z.fibre_j, z.a_j)).norm();
   const double d1 = (c.position(z.fibre_i, z.b_i) - c.position(z.fibre_j, z.b_j)).norm();
   return d0 > threshold and d1 > threshold;
@@ -254,11 +269,12 @@ composite_gauss_rule(std::vector<double> cuts, double length, double spacing)
 std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVectors& g,
                                          const ProximityZone& z, double spacing,
                                          double parallel_angle, double delta_factor,
-                                         const Eigen::Vector3d& fallback, double wrap_angle)
+                                         const Eigen::Vector3d& fallback, double wrap_angle,
+                                         double kind_bias)
 {
   if (!(spacing > 0) or !std::isfinite(spacing))
     throw std::invalid_argument("contact_points: spacing must be positive and finite");
-  const bool crossing = is_crossing(c, z, parallel_angle, delta_factor);
+  const bool crossing = is_crossing(c, z, parallel_angle, delta_factor, kind_bias);
   if (crossing and wrap_angle >= 0)
     if (const int wrapping = wrapping_fibre(c, z, wrap_angle, 2 * spacing); wrapping >= 0)
       return wrap_points(c, g, z, wrapping, spacing); // wrap_contact.h

@@ -66,6 +66,18 @@ struct ContactPoint
 /// two elements' tangents (a kink's, where a force bends the fibre).
 Eigen::Vector3d unit_tangent(const Centrelines& c, int f, double s);
 
+/// Unit tangent of fibre f at abscissa s, continuous in s across nodes:
+/// within kink_blend (element coordinates) of an interior node, the
+/// element's tangent is turned by part of the kink, (1 - |s - node| /
+/// kink_blend) / 2 of the jump of unit tangents at the node, so that both
+/// sides meet at the bisector (unit_tangent at the node); elsewhere the
+/// element's tangent. A normal built from it turns smoothly as a point
+/// moves across a kinked node instead of jumping by the kink angle.
+Eigen::Vector3d blended_tangent(const Centrelines& c, int f, double s);
+
+/// Half-width of the window of blended_tangent (element coordinates).
+inline constexpr double kink_blend = 0.25;
+
 /// Mean of two unit tangents, the second flipped if the fibres run in
 /// opposite directions (an intermediate geometry has no orientation).
 Eigen::Vector3d mean_tangent(const Eigen::Vector3d& ti, const Eigen::Vector3d& tj);
@@ -98,8 +110,17 @@ double intermediate_length(const Centrelines& c, const ProximityZone& z, int sam
 /// mean of the smallest distance and the search distance delta_factor
 /// (r_i + r_j)). Twisted or wound fibres cross at an angle but stay close
 /// up to a fibre end: they touch along a line.
+///
+/// `bias` (hysteresis, detection.h): the angle threshold is (1 - bias)
+/// parallel_angle and the ends' distance threshold lies at (1/2 - bias) of
+/// the way from the smallest distance to the search distance; +crossing_bias
+/// for a zone that was a crossing, -crossing_bias for one that was a line
+/// contact, 0 for a new zone.
 bool is_crossing(const Centrelines& c, const ProximityZone& z, double parallel_angle,
-                 double delta_factor);
+                 double delta_factor, double bias = 0.0);
+
+/// Margin of the crossing criterion's hysteresis (is_crossing).
+inline constexpr double crossing_bias = 0.25;
 
 /// Element boundaries of a fibre strictly inside (a, b) (abscissas),
 /// appended to `cuts` as fractions of [a, b].
@@ -140,7 +161,7 @@ composite_gauss_rule(std::vector<double> cuts, double length, double spacing);
 /// A crossing zone one of whose fibres wraps around the other by more than
 /// `wrap_angle` (radians) over at least 2 x spacing (wrap_contact.h: long
 /// enough for 2 pieces of elements) gets the wrap's elements instead (a
-/// negative wrap_angle: never).
+/// negative wrap_angle: never). `kind_bias`: is_crossing's hysteresis.
 ///
 /// @param fallback direction used to place the particles when the two
 ///                 centroids coincide (e.g. the element's previous normal,
@@ -149,7 +170,8 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
                                          const ProximityZone& z, double spacing,
                                          double parallel_angle, double delta_factor,
                                          const Eigen::Vector3d& fallback = Eigen::Vector3d::Zero(),
-                                         double wrap_angle = -1.0);
+                                         double wrap_angle = -1.0,
+                                         double kind_bias = 0.0);
 
 /// Place p's particles on the borders of its two sections where they face
 /// each other along `towards_j` (from fibre i towards fibre j; fibre j's

@@ -32,8 +32,11 @@ bool facing_crossing(const Centrelines& c, ContactPoint& p, const Eigen::Vector3
   }
   p.s_i = si;
   p.s_j = sj;
-  p.tangent_i = c.tangent(p.fibre_i, si).normalized();
-  p.tangent_j = c.tangent(p.fibre_j, sj).normalized();
+  // the facing point moves across nodes from pass to pass, and a crossing
+  // kinks the fibres at the node under it: tangents continuous there, or
+  // the crossing normal would jump by the kink angle between passes
+  p.tangent_i = blended_tangent(c, p.fibre_i, si);
+  p.tangent_j = blended_tangent(c, p.fibre_j, sj);
   p.centroid_gap = c.position(p.fibre_i, si) - c.position(p.fibre_j, sj);
   return true;
 }
