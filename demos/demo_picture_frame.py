@@ -46,14 +46,25 @@ a boundary artefact. "yarn" clamps each yarn end in a body of its own,
 hinged on the arm: the yarn's fibres keep their layout. The default stays
 "fibre": on the default monofilaments both give the same picture (yarn
 pins also hold the ends' tilt: 0.7 instead of 0.9 deg between the fibres'
-and the frame's shear angle at 35 deg, a force 1.7 times higher), and on
-flat yarns neither reaches locking (PictureFrame's docstring).
+and the frame's shear angle at 35 deg, a force 1.7 times higher).
+
+Locking: a tighter weave of flat yarns with long free yarn ends (the
+crossings away from the yarn clamps) jams,
+
+    python3 demos/demo_picture_frame.py --fibres 2 --spacing 2.5 --pin yarn \
+        --free-length 1.5 --angle 58.5 --steps 30
+
+(about a minute): the parallel yarns touch from 57.6 deg on and the
+tangent stiffness rises tenfold there (the bound arccos(w/p) is 66.4 deg);
+open ``fibres.pvd`` at the last steps to see the yarns pressed side by
+side.
 
 Run: ``python3 demos/demo_picture_frame.py [--output DIR] [--woven FILE]
-[--fibres N] [--spacing S] [--angle DEG] [--steps N] [--pin fibre|yarn]`` (a few seconds;
-also ``mpirun -n 2``). Measured (defaults, 35 deg in 7 steps): the
-fibres' shear angle follows the frame's within 0.9 deg; no locking before
-35 deg (the bound arccos(1/6) is 80 deg).
+[--fibres N] [--spacing S] [--free-length F] [--angle DEG] [--steps N]
+[--pin fibre|yarn]`` (a few seconds; also ``mpirun -n 2``). Measured
+(defaults, 35 deg in 7 steps): the fibres' shear angle follows the
+frame's within 0.9 deg; no locking before 35 deg (the bound arccos(1/6)
+is 80 deg).
 """
 import argparse
 import math
@@ -73,6 +84,8 @@ parser.add_argument("--output", default=os.path.join(os.path.dirname(os.path.abs
 parser.add_argument("--woven", default=None, help="a saved woven state of the same fabric")
 parser.add_argument("--fibres", type=int, default=1, help="fibres per yarn (side by side)")
 parser.add_argument("--spacing", type=float, default=6.0, help="yarn spacing, in yarn widths")
+parser.add_argument("--free-length", type=float, default=0.5,
+                    help="yarn ends beyond the last crossing, in spacings")
 parser.add_argument("--angle", type=float, default=35.0, help="target shear angle (degrees)")
 parser.add_argument("--steps", type=int, default=7, help="load steps of the shearing")
 parser.add_argument("--pin", choices=("fibre", "yarn"), default="fibre",
@@ -88,8 +101,9 @@ comm.Barrier()
 R = 0.1e-3
 fibre_material = textile.Material(5.0e9, 0.35)
 yarn = Yarn(args.fibres, R, fibre_material, packing="layers 1")
-fabric = Fabric(yarn, num_warp=2, num_weft=2, spacing=args.spacing * yarn.width,
-                pattern="plain", elements_per_crossing=4)
+spacing = args.spacing * yarn.width
+fabric = Fabric(yarn, num_warp=2, num_weft=2, spacing=spacing, pattern="plain",
+                free_length=args.free_length * spacing, elements_per_crossing=4)
 
 # 1. The woven state: weave now unless a saved one is given.
 woven = args.woven or woven_state(fabric, os.path.join(args.output, "woven.h5"), comm=comm)
@@ -120,8 +134,10 @@ if comm.rank == 0:
         print(f"{k}: {v}")
     lock = result.figures["locking angle [deg]"]
     bound = result.figures["pin-joint locking bound arccos(w/p) [deg]"]
+    jam = result.figures["lateral yarn contact from [deg]"]
     reached = f"not reached by {result.curve.x[-1]:.1f} deg" if lock is None else f"{lock:.1f} deg"
-    print(f"locking angle: {reached}; pin-joint bound arccos(w/p) = {bound:.1f} deg")
+    touch = "no yarns touch" if jam is None else f"parallel yarns touch from {jam:.1f} deg"
+    print(f"locking angle: {reached} ({touch}); pin-joint bound arccos(w/p) = {bound:.1f} deg")
     print(f"reaction balance: forces {result.force_balance:.2e}, moments "
           f"{result.moment_balance:.2e}")
     print()

@@ -43,8 +43,12 @@ Curve: normalized shear force against the frame's shear angle (degrees).
 Figures: the small-angle shear stiffness (normalized force per radian),
 the locking angle (where the tangent stiffness has risen tenfold,
 :meth:`~textile.virtual_tests.load_curve.LoadCurve.stiffening_point`) beside
-the pin-joint bound arccos(w / p) (w the yarn width, p the spacing), and the
-largest difference between the fibres' shear angle and the frame's.
+the pin-joint bound arccos(w / p) (w the yarn width, p the spacing), the
+shear angle from which parallel yarns press each other (the first step
+with lateral contact force, :meth:`PictureFrame.lateral_contact_force`,
+recorded every step: it tells locking by jamming from other stiffening),
+and the largest difference between the fibres' shear angle and the
+frame's.
 
 Pins (``pin``): with "fibre" (the default) the four side bodies pin every
 fibre end of their side: the ends turn freely about z but do not spin
@@ -64,65 +68,37 @@ so the frame's corners are checked from the side bodies
 (:meth:`PictureFrame.corner_positions`) and the pins from either
 (:meth:`PictureFrame.pin_positions`).
 
-Measured on a 2 x 2 plain weave of monofilaments (tests/virtual): 6 widths
-apart, the fibres' shear angle exceeds the frame's by 2.5 % (0.86 deg at
-35 deg: the yarns bow slightly towards the centre); neither 6 nor 4 widths
-reaches the tenfold stiffening before the solver stops at a limit point
-(near 52 deg and 30-37 deg), below the pin-joint bounds (80 and 75 deg)
-and with no lateral contact between parallel yarns.
+Locking (measured 2026-12-01, tests/virtual/test_picture_frame.py): 2 x 2
+plain weaves of flat 2-fibre yarns (R = 0.1 mm, E = 5 GPa, friction 0.2,
+yarn pins) whose yarn ends run 1.5 spacings beyond the crossings lock: the
+tangent stiffness rises tenfold above its first interval's at 57.5-57.7
+deg 2.5 widths apart (pin-joint bound 66.4) and at 60.3 deg 2.75 widths
+apart (bound 68.7), each within 0.1-0.3 deg of the first contact between
+parallel yarns ("lateral yarn contact from [deg]"), and climbs to 30-50
+times within 3 deg. 3 widths apart no yarns touch up to 60 deg (bound
+70.5), and 2 and 2.25 widths apart the solve stops (45 and 50 deg) before
+they do. The first interval is the stiffest before locking: every contact
+starts sticking, and the tangent then falls to a twentieth of it while
+the crossings slip and the yarns bow into an S.
 
-Measured with yarn pins (pin="yarn", 2026-12-01; tests/woven_states.py
-plain_weave, R = 0.1 mm, E = 5 GPa, friction 0.2; 2 x 2 flat yarns of 2 and
-of 3 fibres side by side, 2, 2.5 and 3 yarn widths apart: pin-joint bounds
-60, 66.4 and 70.5 deg; 32 steps to 64 deg, cut down to 1e-4 of the stage):
-no tenfold stiffening. The first interval is the stiffest: every contact
-starts sticking, and the crossings (four or nine fibre contacts) and the
-fibres of a yarn, clamped together, resist turning until they slip a few
-degrees on; the tangent then falls to a fifth to a twentieth of the first
-interval's. It rises again (3 fibres 2.5 and 3 widths apart: to 28 and 44
-times its lowest value, 2.4 times the first interval's) until Newton fails:
-2 fibres at 15.3, 26.7 and 38.6 deg, 3 fibres at 22.0, 34.3 and 40.2 deg.
-The stopping angle grows with the spacing, but it is where the solve fails,
-not locking: no lateral contact between parallel yarns (their nearest
-fibres 5 to 9 radii apart, centre to centre), the force still rising (but
-for a 2 % drop just before the stop of the 2-fibre sample 2 widths apart).
-The stop depends on the path (the 2-fibre sample 3 widths apart stops at
-34.2 deg with 3 deg steps) but not on the Newton settings (3 fibres 3
-widths apart: 40.2 deg also with predictor "none", 40 iterations and 40
-contact updates; with 80 iterations the 2-fibre sample 2 widths apart ends
-on an inverted element next to a yarn clamp); steps of 2e-4 of the stage
-(0.015 deg) still fail, so presumably the contact state jumps there.
-Measured from the tangent's lowest value after slipping instead, the
-3-fibre samples stiffen tenfold at 20.9 (in the last, tiny steps), 25.3 and
-37.6 deg, growing with the spacing, but without lateral contact either.
-Friction 0.05 (3 fibres 3 widths apart) makes the first interval 4.5 times
-softer and stops at 37.3 deg; a 4 x 4 sample (2 fibres 2.5 widths apart)
-stops earlier, at 8.2 deg, on an inverted element inside. The yarns bow
-into an S, the crossings resisting the turn (2 fibres 2 widths apart at
-15.3 deg: the yarn-end bodies turn by 0.9 to 9.6 deg, a pin-jointed net's
-yarns by 7.7); on the 2 x 2 samples the fibres' shear angle follows the
-frame's within 1.3 deg. Per-fibre pins on the 3-fibre yarns 2.5 widths
-apart do stiffen tenfold (at 27 deg; Newton then fails on an inverted
-element at the pins), but that is the pins' artefact: the fibres' shear
-angle there runs 3.8 deg ahead of the frame's, and the pins close at any
-spacing.
+What the sample needs: crossings several elements from the yarn clamps.
+With the default free length (half a spacing: the last crossing one
+element from its clamp) every sample stopped at 11-45 deg, no yarns
+touching: a crossing pressed next to a clamp switched between a point
+crossing and a line contact from pass to pass, or the clamped element
+inverted. Two properties of the contact detection were needed as well
+(detection.h, intermediate_geometry.h): crossings take centre-line
+tangents blended across kinked nodes (the crossing's normal swung by the
+kink angle as the crossing moved across the node between passes), and a
+zone keeps its kind (crossing or line contact) until the criterion fails
+by a margin. Without them the 2.5-width sample above stops at 54.6 deg,
+before the yarns touch.
 
-What stops the 2-fibre sample 2 widths apart (diagnosed 2026-12-01, at
-19 deg): a crossing sits on a node where both fibres kink by 7.6 deg under
-its force. The crossing placed where the fibres face each other
-(vertical_crossing.h) takes its tangents from the element on one side of
-the node or the other as it moves across it between passes, so its normal
-swings by the kink angle (halved by the relocation rule: 4 deg) and the
-Newton solve after that pass diverges (residual from 2 to 50, at any step
-size; with friction 0 the contact loop cycles instead, at the same angle).
-Tangents blended continuously across kinked nodes (branch
-wip/blended-tangent) remove that swing: the 3-fibre sample 3 widths apart
-then reaches 43.9 deg (40.2 before), but the 2-fibre sample stops earlier
-(12.6 deg), on a crossing next to a yarn clamp whose zone turns into a
-line contact (eight elements, 0.46 R deep) and back. These samples have
-their crossings one element from the clamps; locking needs a sample whose
-crossings are far from its clamps, and crossings whose zone kind and
-place do not switch between passes.
+Monofilaments with per-fibre pins (tests/virtual): 6 widths apart the
+fibres' shear angle exceeds the frame's by 2.5 % (the yarns bow slightly
+towards the centre). Flat yarns with per-fibre pins resist from the first
+degree (the pins of a yarn's fibres close as the arm turns, Pins above):
+use yarn pins for multi-fibre yarns.
 
 Units: those of the fabric; ``angle`` and rotations in radians, reported
 angles in degrees.
@@ -390,6 +366,20 @@ class PictureFrame(VirtualTest):
                                           float(t1 @ t2)))
         return 90.0 - between
 
+    def lateral_contact_force(self) -> float:
+        """Sum of the contact normal forces (N) between fibres of different
+        yarns of the same direction: parallel yarns pressed against each
+        other, the jamming behind shear locking (0 without contact;
+        collective)."""
+        contact = self.sample.contact
+        if contact is None:
+            return 0.0
+        d = contact.elements()
+        fabric = self.sample.fabric
+        yarn_i, yarn_j = fabric.fibre_yarn[d["fibre_i"]], fabric.fibre_yarn[d["fibre_j"]]
+        parallel = (yarn_i != yarn_j) & ((yarn_i < fabric.num_warp) == (yarn_j < fabric.num_warp))
+        return float(self.sample.model.comm.allreduce(float(d["normal_force"][parallel].sum())))
+
     def measure(self, s: float):
         d = s * self.displacement
         theta = self.frame_angle(d)
@@ -401,15 +391,19 @@ class PictureFrame(VirtualTest):
         return math.degrees(gamma), normalized, {
             "displacement": d, "frame_angle": math.degrees(theta), "pulling_force": F,
             "shear_force": Fs, "fibre_shear_angle": fibres,
-            "fibre_angle_error": fibres - math.degrees(gamma)}
+            "fibre_angle_error": fibres - math.degrees(gamma),
+            "lateral_contact_force": self.lateral_contact_force()}
 
     def summarize(self, result) -> dict:
         lock = result.curve.stiffening_point(10.0)
         errors = [abs(s["fibre_angle_error"]) for s in result.steps]
+        # the first step where parallel yarns press each other
+        jammed = [s["x"] for s in result.steps if s["lateral_contact_force"] > 0]
         return {"shear stiffness (normalized force per radian)":
                 result.curve.initial_slope() * 180.0 / math.pi,
                 "locking angle [deg]": lock,
                 "pin-joint locking bound arccos(w/p) [deg]": math.degrees(self.lock_bound),
+                "lateral yarn contact from [deg]": jammed[0] if jammed else None,
                 "largest fibre angle error [deg]": max(errors, default=0.0),
                 "frame side": self.side, "yarn width": self.yarn_width,
                 "spacing": float(self.sample.fabric.spacing[0])}
