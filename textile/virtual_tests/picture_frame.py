@@ -83,7 +83,7 @@ the crossings slip and the yarns bow into an S.
 
 What the sample needs: crossings several elements from the yarn clamps.
 With the default free length (half a spacing: the last crossing one
-element from its clamp) every sample stopped at 11-45 deg, no yarns
+element from its clamp) every sample stopped at 11-44 deg, no yarns
 touching: a crossing pressed next to a clamp switched between a point
 crossing and a line contact from pass to pass, or the clamped element
 inverted. Two properties of the contact detection were needed as well
