@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 namespace textile::contact
 {
@@ -11,15 +12,23 @@ Detection detect(const Centrelines& c, const SectionVectors& g, double delta_fac
 {
   Detection d;
   d.zones = find_proximity_zones(c, delta_factor, self_exclusion);
+  // the marks sorted by fibre pair: each zone looks up its pair's marks
+  // (one mark a zone of the last pass: a scan per zone would be quadratic)
+  std::vector<ZoneMark> marks(previous.begin(), previous.end());
+  const auto pair_less = [](const ZoneMark& a, const ZoneMark& b)
+  { return std::tie(a.fibre_i, a.fibre_j) < std::tie(b.fibre_i, b.fibre_j); };
+  std::sort(marks.begin(), marks.end(), pair_less);
   for (std::size_t z = 0; z < d.zones.size(); ++z)
   {
     const ProximityZone& zone = d.zones[z];
     const bool ordered = weaving and weaving->sign(zone.fibre_i, zone.fibre_j) != 0;
     // the last pass's kinds of zone here (within one element on both fibres)
     bool was_wrap = false, was_crossing = false, was_line = false;
-    for (const ZoneMark& m : previous)
-      if (m.fibre_i == zone.fibre_i and m.fibre_j == zone.fibre_j and m.s_i >= zone.a_i - 1
-          and m.s_i <= zone.b_i + 1 and m.s_j >= zone.a_j - 1 and m.s_j <= zone.b_j + 1)
+    const ZoneMark key{.fibre_i = zone.fibre_i, .fibre_j = zone.fibre_j};
+    const auto [first, last] = std::equal_range(marks.begin(), marks.end(), key, pair_less);
+    for (const ZoneMark& m : std::span(first, last))
+      if (m.s_i >= zone.a_i - 1 and m.s_i <= zone.b_i + 1 and m.s_j >= zone.a_j - 1
+          and m.s_j <= zone.b_j + 1)
       {
         was_wrap = was_wrap or m.kind == ZoneKind::wrap;
         was_crossing = was_crossing or m.kind == ZoneKind::crossing;

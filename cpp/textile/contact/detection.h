@@ -56,8 +56,9 @@ std::vector<ZoneMark> zone_marks(const ContactSet& set);
 /// hysteresis: a zone that was a crossing or a wrap stays one until the
 /// criterion fails by a margin, and a line contact becomes a crossing only
 /// past a margin (crossing_bias); a crossing pressed deep next to a fibre
-/// end would otherwise flip to a line contact of many elements and back. Pairs that `weaving` orders (weaving_order.h) keep
-/// point crossings, never wraps: their vertical normal measures the
+/// end would otherwise flip to a line contact of many elements and back.
+/// Pairs that `weaving` orders (weaving_order.h) keep point crossings,
+/// never wraps: their vertical normal measures the
 /// penetration through the crossing, while along a wrap, away from it, the
 /// vertical distance between facing points is no penetration.
 Detection detect(const Centrelines& c, const SectionVectors& g, double delta_factor,
