@@ -97,10 +97,13 @@ def run_test(name: str, fabric, woven: str, steps: int, args, comm, progress) ->
     done = []
 
     def on_step(solver, rec):
+        # collective (every rank calls on_step): each rank's peak memory so far
+        rss = comm.gather(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
         done.append(dict(step=rec.step, stage=rec.stage, load_factor=rec.load_factor,
                          newton_iterations=rec.newton_iterations, attempts=rec.attempts,
                          wall_seconds=rec.wall_time,
-                         elapsed_seconds=time.perf_counter() - started))
+                         elapsed_seconds=time.perf_counter() - started,
+                         peak_rss_mib_ranks=rss))
         progress(dict(test=name, unfinished=True, steps_so_far=done))
     test.on_step = on_step
     with DetectionClock() as detection:
@@ -182,7 +185,8 @@ def main():
                 with open(path, "w") as f:
                     json.dump(dict(results, tests=_done + [partial]), f, indent=1, default=float)
         out = run_test(name, fabric, args.woven, steps, args, comm, progress)
-        out["peak_rss_mib_rank0"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+        out["peak_rss_mib_ranks"] = comm.gather(
+            resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
         out.update(date=time.strftime("%Y-%m-%d"), machine=runtime.describe(), ranks=comm.size)
         results["tests"].append(out)
         if comm.rank == 0:
