@@ -241,11 +241,14 @@ class Model:
         self.b.setOption(PETSc.Vec.Option.IGNORE_NEGATIVE_INDICES, True)
         self._setup_constraints()
         self._setup_residual_groups()
-        # the unknowns as the kernels see them: q = u + X_q (positions for
-        # fibres; the matrix field's kernels work on displacements)
+        # the unknowns as the kernels see them: q = u + X_q (fibre positions,
+        # matrix node and rigid body coordinates: the couplings compute X + u)
+        reference = {"beam": self.mesh.X_local.ravel()}
+        for e in self.effects:
+            reference.update(e.reference_values())
         self._X_q = self.layout.create_vector()
-        self.layout.scatter(self._X_q, [self.mesh.X_local.ravel() if f.name == "beam"
-                                        else np.zeros(f.size_ghosted) for f in self.layout.fields])
+        self.layout.scatter(self._X_q, [reference.get(f.name, np.zeros(f.size_ghosted))
+                                        for f in self.layout.fields])
         self.residual_norms = None
         self.residual_floors = None
         self._floor_tangent = None

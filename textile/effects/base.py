@@ -69,6 +69,15 @@ class Effect:
     def setup(self, model) -> None:
         """Called once the layout exists, before any assembly."""
 
+    def reference_values(self) -> dict[str, np.ndarray]:
+        """Per field this effect brings: the reference values its kernels
+        add to the unknowns (owned then ghost, unrolled; e.g. node
+        coordinates under displacements). They set the size of the terms a
+        residual is made of, hence its round-off floor (Model.floors): a
+        coupling row computing X + u carries round-off of eps |X|, however
+        small u is. Called after setup; fields not listed count as zero."""
+        return {}
+
     def add_sparsity(self, sparsity) -> None:
         """Insert the blocks this effect will fill."""
 

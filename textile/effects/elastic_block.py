@@ -262,6 +262,10 @@ class ElasticBlock(Effect):
         imap = self.V.dofmap.index_map
         return [Field(self.name, imap, self.V.dofmap.index_map_bs)]
 
+    def reference_values(self) -> dict[str, np.ndarray]:
+        # the junctions and rigid couplings place the node at X + u
+        return {self.name: np.ascontiguousarray(self.node_coordinates().ravel())}
+
     def setup(self, model) -> None:
         self._model = model
         layout = model.layout

@@ -369,6 +369,13 @@ class RigidBodies(Effect):
         if len(loads):
             b["rigid"][:6 * len(loads)] += loads.ravel()
 
+    def reference_values(self) -> dict[str, np.ndarray]:
+        # a body's couplings place it at centre + u (every rank holds all
+        # bodies: owned on rank 0, ghosts elsewhere); rotations start at 0
+        reference = np.zeros((len(self.bodies), 6))
+        reference[:, 0:3] = self.centres
+        return {"rigid": reference.ravel()}
+
     def add_sparsity(self, sparsity) -> None:
         # per body, its nodes x its unknowns and its multipliers x its
         # unknowns are dense products (one insertion each); node-multiplier
