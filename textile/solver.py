@@ -52,7 +52,31 @@ def max_op():
 
 #: Reasons of a failed attempt that are not SNES's own.
 DIVERGED_EFFECTS_UNSETTLED = -200
-_OWN_REASONS = {DIVERGED_EFFECTS_UNSETTLED: "DIVERGED_EFFECTS_UNSETTLED"}
+DIVERGED_NEWTON_CYCLE = -201
+_OWN_REASONS = {DIVERGED_EFFECTS_UNSETTLED: "DIVERGED_EFFECTS_UNSETTLED",
+                DIVERGED_NEWTON_CYCLE: "DIVERGED_NEWTON_CYCLE"}
+
+#: A Newton solve whose residual norm repeats itself with a period of 1 to
+#: CYCLE_PERIOD iterations (each of the last max(CYCLE_ITERATIONS, 2 period)
+#: values within CYCLE_TOLERANCE of the one a period before) is cycling
+#: (stick-slip or contact switches flipping in turn) or stuck: it would not
+#: converge within max_it, so the attempt fails at once and the step is cut.
+#: A residual falling by 5% a period needs 45 periods per decade: none of
+#: that converges anyway.
+CYCLE_ITERATIONS, CYCLE_PERIOD, CYCLE_TOLERANCE = 6, 4, 0.05
+
+
+def cycling(norms: list[float]) -> bool:
+    """Does this Newton residual history (norm per iteration) cycle?"""
+    for period in range(1, CYCLE_PERIOD + 1):
+        n = max(CYCLE_ITERATIONS, 2 * period)
+        if len(norms) < n + period + 2:  # the first two iterations never count
+            continue
+        h = norms[-n - period:]
+        if all(abs(a - b) <= CYCLE_TOLERANCE * max(a, b)
+               for a, b in zip(h[period:], h[:-period])):
+            return True
+    return False
 
 
 def reason_name(reason: int) -> str:
@@ -88,7 +112,8 @@ class SolverOptions(Options):
         or below atol times its force scale (the largest fibre E*A; times the
         largest radius for section vectors). Or: the Newton update is below
         stol times the solution (relative). max_it: Newton iterations per
-        solve.
+        solve; a solve whose residual repeats itself (``cycling``) stops
+        before, as DIVERGED_NEWTON_CYCLE.
     line_search:
         SNES line search; "basic" (full Newton steps, default): the residual
         norm mixes forces on positions and on section vectors, which misleads
@@ -311,7 +336,7 @@ class Solver:
         weakref.finalize(self, _forget_options, self.prefix)
         self._counts = dict(newton_solves=0, newton_iterations=0, failed_attempts=0,
                             accepted_steps=0, residual_evaluations=0, jacobian_evaluations=0,
-                            linear_solve_retries=0)
+                            linear_solve_retries=0, eigen_solves=0, eigen_solve_seconds=0.0)
         self.snes = self._create_snes()  # starts PETSc's event log
         self._events_at_start = event_counts()
 
@@ -381,12 +406,17 @@ class Solver:
             return PETSc.SNES.ConvergedReason.CONVERGED_FNORM_ABS
         if it == 0:
             self._f0 = fnorm
+            self._fnorms = []
+        self._fnorms.append(fnorm)
         # a negligible update converges, unless the iterate blew up (a tiny
         # step relative to a huge solution must not accept |r| = 1e29)
         if it > 0 and ynorm <= o.stol * xnorm and fnorm <= self._f0:
             return PETSc.SNES.ConvergedReason.CONVERGED_SNORM_RELATIVE
         if it >= o.max_it:
             return PETSc.SNES.ConvergedReason.DIVERGED_MAX_IT
+        if cycling(self._fnorms):
+            self._cycled = True  # step_to names it (SNES knows no such reason)
+            return PETSc.SNES.ConvergedReason.DIVERGED_DTOL
         return PETSc.SNES.ConvergedReason.CONVERGED_ITERATING
 
     def _log(self, msg: str) -> None:
@@ -400,7 +430,9 @@ class Solver:
         solves and iterations, residual and tangent evaluations,
         factorizations (numeric LU or LDL^T, and symbolic), linear solves
         and their wall time (from PETSc's event log), failed attempts,
-        accepted steps."""
+        accepted steps, eigen-solves of the stability check (SLEPc: each
+        one more factorization, counted among the factorizations) and
+        their wall time."""
         now = event_counts()
         out = dict(self._counts)
         for k, v in now.items():
@@ -460,8 +492,13 @@ class Solver:
                 self.snes.setJacobian(self._jacobian, *self.linear.operators(m.rebuild_matrix()))
             for retry in range(o.max_it):
                 self._counts["newton_solves"] += 1
+                self._cycled = False
                 self.snes.solve(None, m.x)
                 attempt.reason = self.snes.getConvergedReason()
+                if self._cycled:
+                    attempt.reason = DIVERGED_NEWTON_CYCLE
+                    attempt.message = ("the residual repeats itself (contact or "
+                                       "stick-slip switches flipping, or stuck)")
                 its = self.snes.getIterationNumber()
                 self._counts["newton_iterations"] += its
                 attempt.iterations += its
@@ -533,6 +570,10 @@ class Solver:
         before = self._negative
         if inertia.negative > before + self._spurious:
             raw = inertia.negative
+            # on a large scene this is one more factorization and a Krylov
+            # eigen-solve: say so, it can take longer than the step itself
+            self._log(f"  t={t:.6g}: {raw - before} negative pivot(s) more than the last "
+                      f"step: eigenvalues nearest zero (SLEPc) to tell zero modes apart")
             inertia = self._confirm(inertia)
             # negative pivots that are round-off of zero eigenvalues
             self._spurious = raw - inertia.negative
@@ -563,7 +604,7 @@ class Solver:
         m = self.model
         idx, _ = m._owned_constrained(m.load_factor)
         rows = m.layout.lgmap.apply(idx.astype(PETSc.IntType))
-        values, _ = critical_modes(m.A, rows, inertia.negative + 1, self.comm)
+        values, _ = self._critical_modes(rows, inertia.negative + 1)
         diag = m.A.getDiagonal()
         scale = max(abs(diag.max()[1]), abs(diag.min()[1]))
         diag.destroy()
@@ -575,6 +616,15 @@ class Solver:
                        f"zero-energy mode(s) (a fibre free to move or turn rigidly? check the "
                        f"supports)")
         return Inertia(max(inertia.negative - zero, 0), zero)
+
+    def _critical_modes(self, rows, count: int):
+        """critical_modes of the current tangent, counted and timed."""
+        t0 = time.perf_counter()
+        try:
+            return critical_modes(self.model.A, rows, count, self.comm)
+        finally:
+            self._counts["eigen_solves"] += 1
+            self._counts["eigen_solve_seconds"] += time.perf_counter() - t0
 
     def _load_pattern(self, t: float) -> PETSc.Vec:
         """d(external load)/dt at the current state: minus the residual's
@@ -609,7 +659,9 @@ class Solver:
         m, o = self.model, self.options
         idx, _ = m._owned_constrained(m.load_factor)
         rows = m.layout.lgmap.apply(idx.astype(PETSc.IntType))
-        values, modes = critical_modes(m.A, rows, negative - before, self.comm)
+        self._log(f"  t={t:.6g}: unstable ({negative} negative eigenvalue(s)): branch "
+                  f"switching along the critical modes (SLEPc)")
+        values, modes = self._critical_modes(rows, negative - before)
         if not modes:
             return None
         f = self._load_pattern(t)

@@ -118,3 +118,17 @@ def test_counters_count_every_factorization():
     assert c["factorizations"] == c["jacobian_evaluations"]
     assert c["symbolic_factorizations"] == 1
     assert c["accepted_steps"] == len(solver.history) == 2
+
+
+def test_cycling_newton_is_recognised():
+    """Residual histories that repeat themselves with a period of 1 to 4
+    iterations (stick-slip flipping, stuck at a floor) are cycling; a
+    converging history, even a slow one, and a short one are not."""
+    from textile.solver import cycling
+    base = [1e-2, 1e-3]
+    assert cycling(base + [5e-4, 8.7e-4] * 5)                       # period 2 (capstan)
+    assert cycling(base + [4.96e-4, 9.86e-4, 4.99e-4, 7.71e-4] * 3)  # period 4
+    assert cycling(base + [1.97e-8] * 8)                             # stuck
+    assert not cycling(base + [5e-4, 8.7e-4] * 2)                    # too short to tell
+    assert not cycling([10.0 ** -k for k in range(12)])              # converging
+    assert not cycling([0.9 ** k for k in range(20)])                # slow, but 10% a step
