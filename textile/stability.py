@@ -61,10 +61,13 @@ def critical_modes(K: PETSc.Mat, constrained: np.ndarray, count: int, comm):
 
     A = K.copy()
     # constrained rows are unit rows: push their eigenvalue far from zero
-    big = 1e6 * max(abs(A.getDiagonal().max()[1]), 1.0)
-    for r in constrained:
-        A.setValue(int(r), int(r), big)
-    A.assemble()
+    diagonal = A.getDiagonal()
+    big = 1e6 * max(abs(diagonal.max()[1]), 1.0)
+    rows = np.asarray(constrained, dtype=PETSc.IntType)
+    diagonal.setValues(rows, np.full(len(rows), big))
+    diagonal.assemble()
+    A.setDiagonal(diagonal)
+    diagonal.destroy()
     eps = SLEPc.EPS().create(comm)
     eps.setOperators(A)
     eps.setProblemType(SLEPc.EPS.ProblemType.HEP)

@@ -58,6 +58,10 @@ def test_unstable_branch_is_reported(out, dt):
     assert all(n == 2 for n, ti in zip(neg, t) if ti > 0.65)
     assert any("stability lost" in w for w in data["meta"]["warnings"])
     assert abs(model.centreline(fib)[-1, 2]) < 1e-3 * L  # still straight
+    # one eigen-solve, where the negative pivots first appear (the next
+    # steps have as many as the last), counted and timed
+    assert solver.counters["eigen_solves"] == 1
+    assert solver.counters["eigen_solve_seconds"] > 0
     guard.newton_count(f"unstable_branch_reported_dt{dt}", solver)
 
 
@@ -76,6 +80,8 @@ def test_branch_switching_follows_the_buckled_column(out, dt):
     data = guard.clean_output(out, solver)
     assert all(s["negative_eigenvalues"] == 0 for s in data["steps"])
     assert sum(s["branch_switched"] for s in data["steps"]) == 1
+    # the confirmation of the new negative pivots, then the critical modes
+    assert solver.counters["eigen_solves"] == 2
     assert model.centreline(fib)[-1, 2] > 0.5 * L  # buckled towards +z, the lateral force
     # 1.6 P_cr on the elastica: measured 0.045% off (extensibility, shear, the
     # 1e-4 lateral force); the unstable straight branch is 60% off
