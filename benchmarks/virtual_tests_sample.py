@@ -24,7 +24,13 @@ later keeps what it did; tests not run again keep their earlier entry).
 Run the composite tests one per invocation on the 336-fibre sample: each
 holds about 7 GB a rank, and a second test in the same process starts
 before the first one's scene is freed (the twisting after the bending was
-killed for memory at 12.5 GB on rank 0, 2026-12-01).
+killed for memory at 12.5 GB on rank 0, 2026-12-01). The twisting's figures
+of benchmarks/README.md were measured with the stability check off
+(``--solver '{"low_rank_tolerance": 1e-8, "stability_check": "off"}'``):
+with it on, a new negative pivot at step 13 of an earlier run most likely
+set off its SLEPc confirmation on the 467 127-unknown tangent (a copy of
+the matrix and a full-rank LDL^T: both ranks grew by 3.5 GB, no answer
+after 33 minutes).
 """
 from __future__ import annotations
 
