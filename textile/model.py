@@ -565,6 +565,12 @@ class Model:
         parts = self.comm.allgather(owned)
         return np.concatenate(parts).reshape(-1, 9)
 
+    def beam_values(self, x: PETSc.Vec) -> np.ndarray:
+        """All ranks: (global nodes, 9) values of the beam unknowns in a
+        global vector x (each rank's owned part; the beam field comes first
+        in it). Collective."""
+        return self._gather_beam(x.getArray(readonly=True)[: 9 * self.mesh.num_owned])
+
     def beam_positions(self, state: State) -> np.ndarray:
         """All ranks: (global nodes, 9) current [x0, g1, g2] from a state."""
         return self.mesh.X_global + self._gather_beam(state.u["beam"])

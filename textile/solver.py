@@ -33,7 +33,8 @@ from .linear_solver import LinearSolver, event_counts
 from .loading import Stage
 from .model import Model
 from .options import Options
-from .stability import Inertia, critical_modes, factor_inertia
+from .stability import Inertia, critical_modes, factor_negative_pivots, zero_motion_pivots
+from .zero_motions import describe, zero_energy_motions
 
 
 class ConvergenceError(RuntimeError):
@@ -161,10 +162,12 @@ class SolverOptions(Options):
         command-line -snes_*, -ksp_*, -pc_* options also apply.
     stability_check:
         "auto": after every converged step, count the negative eigenvalues of
-        the tangent from its LDL^T factorization (free when the scene's
-        tangent is symmetric; not checked otherwise); recorded per step
-        (``StepRecord.stability``, results.json) with a warning the first
-        time stability is lost. "off": no check.
+        the tangent from the Newton solver's LDL^T factorization (its
+        negative pivots, less those of zero-energy motions: a fibre's
+        sections free to spin, ...; see :mod:`textile.stability`); checked
+        when the scene's tangent is symmetric, not otherwise. Recorded per
+        step (``StepRecord.stability``, results.json) with a warning the
+        first time stability is lost. "off": no check.
     branch_switching:
         When a converged step is found unstable (more negative eigenvalues
         than the step before: a bifurcation was passed), perturb it along the
@@ -248,7 +251,9 @@ class StepRecord:
     effects: dict = field(default_factory=dict)
     #: per group: residual norm at convergence (see textile.convergence)
     residuals: dict = field(default_factory=dict)
-    #: negative eigenvalues of the tangent (None: not checked), and whether
+    #: negative eigenvalues of the tangent (None: not checked), the
+    #: factorization's negative pivots and the zero-energy motions told
+    #: apart from them (None: not searched, no negative pivot), and whether
     #: the step was moved to another branch (textile.stability)
     stability: dict = field(default_factory=dict)
     #: the stage this step belongs to, and the run's time (stage number +
@@ -321,7 +326,6 @@ class Solver:
         self._stage_started = False
         self._warned_unstable = False
         self._warned_singular = False
-        self._spurious = 0     # negative pivots known to be zero eigenvalues
         model.setup()
         model.newton = self.options.newton
         self.comm = model.comm
@@ -336,7 +340,8 @@ class Solver:
         weakref.finalize(self, _forget_options, self.prefix)
         self._counts = dict(newton_solves=0, newton_iterations=0, failed_attempts=0,
                             accepted_steps=0, residual_evaluations=0, jacobian_evaluations=0,
-                            linear_solve_retries=0, eigen_solves=0, eigen_solve_seconds=0.0)
+                            linear_solve_retries=0, eigen_solves=0, eigen_solve_seconds=0.0,
+                            zero_motion_searches=0, zero_motion_seconds=0.0)
         self.snes = self._create_snes()  # starts PETSc's event log
         self._events_at_start = event_counts()
 
@@ -430,9 +435,9 @@ class Solver:
         solves and iterations, residual and tangent evaluations,
         factorizations (numeric LU or LDL^T, and symbolic), linear solves
         and their wall time (from PETSc's event log), failed attempts,
-        accepted steps, eigen-solves of the stability check (SLEPc: each
-        one more factorization, counted among the factorizations) and
-        their wall time."""
+        accepted steps, the stability check's searches for zero-energy
+        motions and eigen-solves for critical modes (SLEPc; both reuse the
+        Newton factorization: solves only) and their wall time."""
         now = event_counts()
         out = dict(self._counts)
         for k, v in now.items():
@@ -533,16 +538,31 @@ class Solver:
 
     # -- stability ---------------------------------------------------------------
     def _inertia(self) -> Inertia:
+        """Negative eigenvalues of the tangent at the converged state, from
+        the Newton factorization (textile.stability): its negative pivots,
+        less the multipliers' and the zero-energy motions'."""
         if self.options.stability_check == "off":
             return Inertia(None)
         if not getattr(self, "_factor_near", False) and self.linear.kind == "cholesky":
             self._factorize_at_solution()
-        inertia = factor_inertia(self.snes.getKSP())
-        if inertia.checked:
-            # a saddle point (multipliers) has one negative eigenvalue per
-            # constraint row by construction (Sylvester)
-            inertia.negative -= self.model.saddle_point_rows
-        return inertia
+        ksp = self.snes.getKSP()
+        negative = factor_negative_pivots(ksp)
+        if negative is None:
+            return Inertia(None)
+        # a saddle point (multipliers) has one negative eigenvalue per
+        # constraint row by construction (Sylvester)
+        pivots = negative - self.model.saddle_point_rows
+        if pivots <= 0:
+            return Inertia(pivots, pivots)
+        # some negative pivots may be round-off of zero-energy motions
+        t0 = time.perf_counter()
+        try:
+            motions = zero_energy_motions(self.model, self.model.A)
+            negative = pivots - zero_motion_pivots(ksp.getPC(), [z.vector for z in motions])
+        finally:
+            self._counts["zero_motion_searches"] += 1
+            self._counts["zero_motion_seconds"] += time.perf_counter() - t0
+        return Inertia(negative, pivots, motions)
 
     def _factorize_at_solution(self) -> None:
         """Factorize the exact tangent at the converged state (the Newton
@@ -564,28 +584,22 @@ class Solver:
         time stability is lost, switch branch if asked."""
         o = self.options
         inertia = self._inertia()
-        out = dict(negative_eigenvalues=inertia.negative, branch_switched=False)
+        out = dict(negative_eigenvalues=inertia.negative, negative_pivots=inertia.pivots,
+                   zero_energy_motions=inertia.zero, branch_switched=False)
         if not inertia.checked:
             return out
+        if inertia.motions and not self._warned_singular:
+            self._warned_singular = True
+            self._warn(f"the tangent is singular at t={t:.6g}: {inertia.zero} zero-energy "
+                       f"motion(s): {describe(inertia.motions)}; their round-off pivots are "
+                       f"not counted as negative eigenvalues (hold them if they should be)")
         before = self._negative
-        if inertia.negative > before + self._spurious:
-            raw = inertia.negative
-            # on a large scene this is one more factorization and a Krylov
-            # eigen-solve: say so, it can take longer than the step itself
-            self._log(f"  t={t:.6g}: {raw - before} negative pivot(s) more than the last "
-                      f"step: eigenvalues nearest zero (SLEPc) to tell zero modes apart")
-            inertia = self._confirm(inertia)
-            # negative pivots that are round-off of zero eigenvalues
-            self._spurious = raw - inertia.negative
-            out["negative_eigenvalues"] = inertia.negative
-        else:
-            inertia = Inertia(max(inertia.negative - self._spurious, 0), inertia.zero)
-            out["negative_eigenvalues"] = inertia.negative
         if inertia.negative > before and o.branch_switching:
-            switched = self._switch_branch(t, inertia.negative, before)
+            switched = self._switch_branch(t, inertia, before)
             if switched is not None:
                 inertia = switched
-                out.update(negative_eigenvalues=inertia.negative, branch_switched=True)
+                out.update(negative_eigenvalues=inertia.negative, negative_pivots=inertia.pivots,
+                           zero_energy_motions=inertia.zero, branch_switched=True)
         if inertia.negative > 0 and not self._warned_unstable:
             self._warned_unstable = True
             hint = ("" if o.branch_switching else
@@ -596,32 +610,12 @@ class Solver:
         self._negative = inertia.negative
         return out
 
-    def _confirm(self, inertia: Inertia) -> Inertia:
-        """New negative pivots may be round-off of zero eigenvalues (a fibre
-        free to turn rigidly about its axis): the eigenvalues nearest zero
-        (SLEPc) within 1e3 eps max|K_ii| of it are zero modes, not negative
-        ones; warn once about them."""
-        m = self.model
-        idx, _ = m._owned_constrained(m.load_factor)
-        rows = m.layout.lgmap.apply(idx.astype(PETSc.IntType))
-        values, _ = self._critical_modes(rows, inertia.negative + 1)
-        diag = m.A.getDiagonal()
-        scale = max(abs(diag.max()[1]), abs(diag.min()[1]))
-        diag.destroy()
-        threshold = 1e3 * float(np.finfo(float).eps) * scale
-        zero = sum(abs(v) <= threshold for v in values)
-        if zero and not self._warned_singular:
-            self._warned_singular = True
-            self._warn(f"the tangent is singular at t={self.model.load_factor:.6g}: {zero} "
-                       f"zero-energy mode(s) (a fibre free to move or turn rigidly? check the "
-                       f"supports)")
-        return Inertia(max(inertia.negative - zero, 0), zero)
-
-    def _critical_modes(self, rows, count: int):
-        """critical_modes of the current tangent, counted and timed."""
+    def _critical_modes(self, count: int, deflate):
+        """critical_modes of the current factorization, counted and timed."""
         t0 = time.perf_counter()
         try:
-            return critical_modes(self.model.A, rows, count, self.comm)
+            return critical_modes(self.snes.getKSP(), self.model.constrained_positions(), count,
+                                  self.comm, deflate)
         finally:
             self._counts["eigen_solves"] += 1
             self._counts["eigen_solve_seconds"] += time.perf_counter() - t0
@@ -647,7 +641,7 @@ class Solver:
         r1.destroy()
         return f
 
-    def _switch_branch(self, t: float, negative: int, before: int) -> Inertia | None:
+    def _switch_branch(self, t: float, found: Inertia, before: int) -> Inertia | None:
         """Perturb the unstable converged state along its critical modes and
         solve again at the same load; the first stable answer is kept.
 
@@ -657,11 +651,10 @@ class Solver:
         picks its own branch, as the physical structure would; a perfect
         structure falls back to the first mode, both signs."""
         m, o = self.model, self.options
-        idx, _ = m._owned_constrained(m.load_factor)
-        rows = m.layout.lgmap.apply(idx.astype(PETSc.IntType))
-        self._log(f"  t={t:.6g}: unstable ({negative} negative eigenvalue(s)): branch "
+        self._log(f"  t={t:.6g}: unstable ({found.negative} negative eigenvalue(s)): branch "
                   f"switching along the critical modes (SLEPc)")
-        values, modes = self._critical_modes(rows, negative - before)
+        values, modes = self._critical_modes(found.negative - before,
+                                             [z.vector for z in found.motions or []])
         if not modes:
             return None
         f = self._load_pattern(t)
