@@ -16,8 +16,10 @@ CASES = [
     ("demo_plain_weave.py", ["--fibres", "1", "--spacing", "6"], ["fibres.pvd", "contacts.pvd", "results.json", "sample.png",
                                  "cut_warp.png", "cut_weft.png", "woven.h5"]),
     ("demo_fibre_rollup.py", ["--elements", "16"], ["fibres.pvd", "results.json", "shape.png"]),
-    ("demo_buckled_column.py", ["--elements", "8"], ["fibres.pvd", "results.json",
-                                                     "load_rotation.png"]),
+    # fibre slenderness and coarse steps: the straight column past P_cr is
+    # seen as unstable and left for the buckled one (issue 22)
+    ("demo_buckled_column.py", ["--elements", "8", "--slenderness", "10000", "--step", "0.05"],
+     ["fibres.pvd", "results.json", "load_rotation.png"]),
     ("demo_twisted_pair.py", ["--elements", "12"], ["fibres.pvd", "contacts.pvd",
                                                     "results.json"]),
     ("demo_composite_bending.py", ["--fibres", "1", "--spacing", "6", "--steps", "2"],
