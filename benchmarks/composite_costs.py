@@ -39,7 +39,8 @@ L, W, H = 10.0e-3, 4.0e-3, 4.0e-3          # m
 E_M, E_F, NU = 3.0e9, 70.0e9, 0.3           # Pa: epoxy, glass
 
 
-def scene(comm, fibres: int, cells: int, elements: int):
+def scene(comm, fibres: int, cells: int, elements: int, extra=()):
+    """The composite; ``extra``: more fibres in the model, tied to nothing."""
     size = L / cells
     mesh = gmsh_box(comm, [0, 0, 0], [L, W, H], size)
     block = ElasticBlock(mesh, E_M, NU)
@@ -50,7 +51,7 @@ def scene(comm, fibres: int, cells: int, elements: int):
                                          [L, (i + 0.5) * pitch, (j + 0.5) * pitch], radius, mat,
                                          num_elements=elements, section_vector=[0, 1, 0])
                   for i in range(fibres) for j in range(fibres)]
-    model = textile.Model(fibre_list, comm=comm)
+    model = textile.Model(fibre_list + list(extra), comm=comm)
     model.add_effect(block)
     junctions = FibreMatrixJunctions(model, block)
     model.add_effect(junctions)
