@@ -30,7 +30,9 @@ of benchmarks/README.md were measured with the stability check off
 with it on, a new negative pivot at step 13 of an earlier run most likely
 set off its SLEPc confirmation on the 467 127-unknown tangent (a copy of
 the matrix and a full-rank LDL^T: both ranks grew by 3.5 GB, no answer
-after 33 minutes).
+after 33 minutes). That confirmation is gone (issue 22): the check now
+only reuses the Newton factorization (benchmarks/README.md, "Stability
+check"); the twisting has not been rerun with it on.
 """
 from __future__ import annotations
 
