@@ -173,6 +173,9 @@ class Model:
         changed = before.keys() != self._constrained_dofs.keys() or any(
             len(before[k]) != len(v) or np.any(before[k] != v)
             for k, v in self._constrained_dofs.items())
+        # the new matrix is collective: a release of unknowns that only one
+        # rank holds changes every rank's system
+        changed = self.comm.allreduce(bool(changed), op=MPI.LOR)
         if changed:
             self._setup_residual_groups()
             self._rebuild_pattern()
