@@ -848,10 +848,12 @@ class Solver:
         step takes (0 once the stage is complete), the load factor of the
         secant predictor's earlier state (-1: none) and the stability
         counters (negative eigenvalues at the last step, round-off pivots
-        known to be zero eigenvalues)."""
+        known to be zero eigenvalues); stage_started is 0 before any solve
+        (the next stage starts from the saved state)."""
         m = self.model
         within = self._stage_started and m.load_factor < 1.0 - 1e-14
         return dict(stage=self._stage.name, stage_index=self._stage_index,
+                    stage_started=int(self._stage_started),
                     time=self._stage_index + m.load_factor,
                     steps=self._steps_before + len(self.history),
                     next_step=float(self._next_step or 0.0) if within else 0.0,
@@ -878,20 +880,25 @@ class Solver:
         constrained set, so the model has a new system matrix."""
         m = self.model
         if matrix_changed:
-            self.snes.setJacobian(self._jacobian, *self.linear.operators(m.A))
+            self.resume_matrix()
         self._stage = Stage(str(position["stage"]))
         self._stage_index = int(position["stage_index"])
-        self._stage_started = True
+        self._stage_started = bool(position.get("stage_started", True))
         self._steps_before = int(position.get("steps", 0))
         self._negative = int(position.get("negative_eigenvalues", 0))
         self._spurious = int(position.get("spurious_pivots", 0))
         self._previous = None
         self._resuming = None
-        if m.load_factor < 1.0 - 1e-14:
+        if self._stage_started and m.load_factor < 1.0 - 1e-14:
             if previous is not None:
                 self._previous = (float(position["previous_load_factor"]), previous)
             step = float(position.get("next_step", 0.0))
             self._resuming = dict(next_step=step if step > 0 else None, following=following)
+
+    def resume_matrix(self) -> None:
+        """The model has a new system matrix (a loaded state changed the
+        constrained set): solve with it."""
+        self.snes.setJacobian(self._jacobian, *self.linear.operators(self.model.A))
 
     def _check_following(self, saved: list[np.ndarray], stage: str) -> None:
         """A resumed stage: the components that followed a callable of s

@@ -344,3 +344,19 @@ def test_a_stage_resumed_without_its_callable_is_refused(tmp_path):
         solver.run_stage(textile.Stage("other"))
     with pytest.raises(ValueError, match="followed a callable of s when the state was saved"):
         solver.run_stage(textile.Stage("side"))
+
+
+def test_a_state_saved_before_any_step(tmp_path):
+    """Saved before the first step, with or without its solver: the loaded
+    run starts its stages as a new one does."""
+    model, solver, side = cantilever()
+    solver.run([textile.Stage("load"), side])
+    end = model.nodal_unknowns()
+    for with_solver in (True, False):
+        model, solver, side = cantilever()
+        path = str(tmp_path / f"start_{with_solver}.h5")
+        textile.save_state(model, path, solver if with_solver else None)
+        model, solver, side = cantilever()
+        textile.load_state(model, path, solver)
+        solver.run([textile.Stage("load"), side])
+        assert np.abs(model.nodal_unknowns() - end).max() < ROUND_OFF * L_BEAM

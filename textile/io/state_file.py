@@ -9,8 +9,9 @@ the number of MPI ranks that wrote or read it (version 2):
     ``format`` ("textile-state"), ``version`` (2), ``load_factor``,
     ``num_fibres``, ``num_nodes``, ``checksum`` (SHA-256 of everything else:
     a corrupt file is refused); with a solver: ``stage``, ``stage_index``,
-    ``time``, ``steps``, ``next_step``, ``previous_load_factor``,
-    ``negative_eigenvalues``, ``spurious_pivots`` (:meth:`Solver.position`).
+    ``stage_started``, ``time``, ``steps``, ``next_step``,
+    ``previous_load_factor``, ``negative_eigenvalues``, ``spurious_pivots``
+    (:meth:`Solver.position`).
 ``/fibres/reference`` (nodes, 9), ``/fibres/unknowns`` (nodes, 9)
     Reference [X0, G1, G2] and current displacements of every fibre node,
     in the global node numbering (fibre after fibre); ``/fibres/previous``
@@ -514,14 +515,17 @@ def load_state(model, path: str, solver=None) -> dict:
     for name, e in _stateful(model).items():
         e.load_state(model, effects[name])
     model.x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
-    if solver is not None:
+    if solver is not None and "stage" in attrs:
         previous = None
-        if "stage" in attrs and all("previous" in v for v in values.values()) and values:
+        if all("previous" in v for v in values.values()):
             previous = _set_fields(model, values, "previous", model.x.duplicate())
-        position = {k: attrs[k] for k in ("stage", "stage_index", "steps", "next_step",
-                                          "previous_load_factor", "negative_eigenvalues",
-                                          "spurious_pivots") if k in attrs}
-        if "stage" not in position:
-            position.update(stage="load", stage_index=0)
+        position = {k: attrs[k] for k in ("stage", "stage_index", "stage_started", "steps",
+                                          "next_step", "previous_load_factor",
+                                          "negative_eigenvalues", "spurious_pivots")
+                    if k in attrs}
         solver.resume(position, previous, following, matrix_changed)
+    elif solver is not None and matrix_changed:
+        # saved without a solver: where the run stood is not known (a new
+        # stage starts from here), but the system matrix is new
+        solver.resume_matrix()
     return attrs
