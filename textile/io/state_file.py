@@ -199,8 +199,6 @@ def _gather_field(model, name: str, vectors: list, reference: np.ndarray) -> dic
     keys = np.concatenate([p[0] for p in parts]).reshape(-1, keys.shape[1])
     order = np.lexsort(keys.T[::-1])
     keys = keys[order]
-    if len(keys) > 1 and np.any(np.all(keys[1:] == keys[:-1], axis=1)):
-        raise RuntimeError(f"save_state: field {name!r} has two blocks with the same key")
     out = dict(keys=keys, reference=np.concatenate([p[1] for p in parts])[order])
     for k, label in enumerate(["unknowns", "previous"][:len(vectors)]):
         out[label] = np.concatenate([p[2][k] for p in parts])[order]
@@ -397,12 +395,16 @@ def save_state(model, path: str, solver=None, fibre_data=None) -> None:
                       radius=np.array([fib.radius for fib in mesh.fibres]), data=labels)
         if "previous" in beam:
             fibres["previous"] = beam["previous"]
-        schedules = {}
-        for k, sched in enumerate(model.schedules()):
-            schedules[f"{k:03d} {sched.name}"] = dict(
-                start=sched.start, target=sched.target, active=sched.active,
-                following=sched.following(), current=sched.values(model.load_factor))
-        try:
+        twice = [name for name, fld in fields.items() if len(fld["keys"]) > 1 and np.any(
+            np.all(fld["keys"][1:] == fld["keys"][:-1], axis=1))]
+        try:   # an error on rank 0 alone is raised on every rank (below)
+            if twice:   # the keys name each block once by construction
+                raise RuntimeError(f"fields {twice} have two blocks with the same key")
+            schedules = {}
+            for k, sched in enumerate(model.schedules()):
+                schedules[f"{k:03d} {sched.name}"] = dict(
+                    start=sched.start, target=sched.target, active=sched.active,
+                    following=sched.following(), current=sched.values(model.load_factor))
             _write(path, attrs, dict(fibres=fibres, fields=fields, schedules=schedules,
                                      effects=effects))
         except (OSError, ValueError, TypeError, RuntimeError) as exc:
