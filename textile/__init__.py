@@ -25,12 +25,14 @@ from .element import BeamElement  # noqa: E402
 from .fibre import Fibre, arc_fibre, straight_fibre  # noqa: E402
 from .material import Material  # noqa: E402
 from .model import Model  # noqa: E402
-from .io.state_file import load_fibres, load_state, save_state, saved_configuration  # noqa: E402
+from .io.state_file import (SceneMismatchError, StateFileError, load_fibres,  # noqa: E402
+                            load_state, save_state, saved_configuration)
 from .loading import Stage  # noqa: E402
 from .output import Output  # noqa: E402
 from .rigid_body import RigidBody  # noqa: E402
 from .solver import ConvergenceError, Solver, SolverOptions  # noqa: E402
 
 __all__ = ["BeamElement", "Fibre", "Material", "Model", "Solver", "SolverOptions",
-           "ConvergenceError", "GeometryError", "Output", "RigidBody", "Stage", "save_state", "load_state", "load_fibres", "saved_configuration", "straight_fibre", "arc_fibre", "PETSc", "_cpp"]
+           "ConvergenceError", "GeometryError", "Output", "RigidBody", "Stage", "save_state", "load_state", "load_fibres", "saved_configuration",
+           "StateFileError", "SceneMismatchError", "straight_fibre", "arc_fibre", "PETSc", "_cpp"]
 __version__ = "0.1.0"

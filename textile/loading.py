@@ -113,6 +113,26 @@ class Schedule:
         """Components given by ``fun(s)`` during this stage."""
         self._callables.append((fun, handle.index, np.arange(len(handle.index))))
 
+    def following(self) -> np.ndarray:
+        """True for the components given by a callable of s in this stage."""
+        out = np.zeros(len(self.start), dtype=bool)
+        for _, pos, _ in self._callables:
+            out[pos] = True
+        return out
+
+    def snapshot(self) -> tuple:
+        """Everything a stage may change, for :meth:`restore`."""
+        return self.start.copy(), self.target.copy(), self.active.copy(), list(self._callables)
+
+    def restore(self, snapshot: tuple) -> None:
+        self.start, self.target, self.active, self._callables = (
+            snapshot[0].copy(), snapshot[1].copy(), snapshot[2].copy(), list(snapshot[3]))
+
+    def forget_callables(self) -> None:
+        """Drop every callable: the components keep ``start`` and ``target``
+        (a saved state sets them: :func:`textile.load_state`)."""
+        self._callables = []
+
     def release(self, handle: Handle) -> None:
         self.active[handle.index] = False
 
@@ -143,9 +163,12 @@ class Stage:
     effects: dict = field(default_factory=dict)
     solver: dict = field(default_factory=dict)
 
-    def apply(self) -> bool:
-        """Set the targets and releases of the stage's handles; returns True
-        when a release changes the set of prescribed unknowns."""
+    def apply(self, effects: bool = True) -> bool:
+        """Set the targets and releases of the stage's handles, and (with
+        ``effects``) the effects' options; returns True when a release
+        changes the set of prescribed unknowns. A stage resumed from a saved
+        state applies its handles again (the callables of s are not saved)
+        but not its effect options (the effects saved theirs)."""
         for h, target in self.ramp.items():
             if not isinstance(h, Handle):
                 raise TypeError(f"Stage {self.name!r}: ramp keys must be handles (what "
@@ -158,6 +181,6 @@ class Stage:
             if not isinstance(h, Handle):
                 raise TypeError(f"Stage {self.name!r}: release items must be handles, got {h!r}")
             h.schedule.release(h)
-        for effect, options in self.effects.items():
+        for effect, options in (self.effects.items() if effects else ()):
             effect.configure(**options)
         return bool(self.release)

@@ -160,13 +160,22 @@ class Model:
         set of prescribed unknowns changed (the system matrix is then new)."""
         self.setup()
         self.load_factor = 0.0
-        before = {k: v.copy() for k, v in self._constrained_dofs.items()}
         stage.apply()
+        return self.update_constraints()
+
+    def update_constraints(self) -> bool:
+        """The schedules changed (a stage began, a saved state was loaded):
+        set the constrained set up again at the current load factor.
+        Returns True when it changed (the system matrix is then new)."""
+        before = {k: v.copy() for k, v in self._constrained_dofs.items()}
         self._constraint_cache = None
         self._setup_constraints()
         changed = before.keys() != self._constrained_dofs.keys() or any(
             len(before[k]) != len(v) or np.any(before[k] != v)
             for k, v in self._constrained_dofs.items())
+        # the new matrix is collective: a release of unknowns that only one
+        # rank holds changes every rank's system
+        changed = self.comm.allreduce(bool(changed), op=MPI.LOR)
         if changed:
             self._setup_residual_groups()
             self._rebuild_pattern()
@@ -222,8 +231,12 @@ class Model:
         if self._ready:
             return
         fields = [Field("beam", self.mesh.index_map, 9)]
+        #: field name -> the effect that brings it (None: the fibres')
+        self._field_owner = {"beam": None}
         for e in self.effects:
-            fields += e.add_fields(self)
+            brought = e.add_fields(self)
+            self._field_owner.update({f.name: e for f in brought})
+            fields += brought
         self.layout = DofLayout(self.comm, fields)
         for e in self.effects:
             e.setup(self)
@@ -332,6 +345,27 @@ class Model:
         split("constraints", owned_constrained.astype(np.int64),
               max(f.length for f in self.mesh.fibres), np.zeros(len(constrained), dtype=bool))
         self.residual_groups = ResidualGroups(self.comm, list(rows), rows, scale, reactions)
+
+    def field_owner(self, field: str) -> Effect | None:
+        """The effect that brings ``field`` (None for the fibres' "beam")."""
+        return self._field_owner[field]
+
+    def reference_values(self) -> dict[str, np.ndarray]:
+        """Field name -> the reference values the kernels add to its
+        unknowns (owned then ghost, unrolled; zero where an effect gives
+        none): fibre node [X0, G1, G2], matrix node coordinates, body
+        centres (see Effect.reference_values)."""
+        arrays = self.layout.get_local(self._X_q)
+        return {f.name: a.copy() for f, a in zip(self.layout.fields, arrays)}
+
+    def block_keys(self, field: str) -> np.ndarray:
+        """(local blocks, k) int64 partition-independent names of the
+        blocks of ``field`` (owned then ghost): a fibre node's global index,
+        or what the effect bringing the field says (Effect.block_keys)."""
+        owner = self._field_owner[field]
+        if owner is None:
+            return self.mesh.local_to_global.astype(np.int64)[:, None]
+        return np.asarray(owner.block_keys(field), dtype=np.int64)
 
     def state(self, x: PETSc.Vec | None = None) -> State:
         """Local view of the unknowns in x (default: the model's solution)."""

@@ -115,8 +115,7 @@ class Sample:
         # the configuration everything is built around: the woven one
         configuration = None
         if woven is not None:
-            configuration = comm.bcast(saved_configuration(woven) if comm.rank == 0 else None,
-                                       root=0)
+            configuration = saved_configuration(woven, comm)
         self.model = Model(fibres, comm=comm)
         mesh = self.model.mesh
         if configuration is None:

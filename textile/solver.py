@@ -324,6 +324,13 @@ class Solver:
         self._stage = Stage("load")   # the implicit first stage
         self._stage_index = 0
         self._stage_started = False
+        #: the step size the next step of the stage takes (after a converged step)
+        self._next_step: float | None = None
+        #: steps converged before this solver (a run resumed from a saved state)
+        self._steps_before = 0
+        #: a stage resumed from a saved state in its middle: what its first
+        #: solve needs (see resume)
+        self._resuming: dict | None = None
         self._warned_unstable = False
         self._warned_singular = False
         model.setup()
@@ -785,9 +792,11 @@ class Solver:
                              f"change between stages; allowed: {sorted(self.STAGE_OPTIONS)}")
         if self._stage_started:
             if m.load_factor < 1.0 - 1e-14:
+                if self._resuming is not None and stage.name == self._stage.name:
+                    return self._resume_stage(stage)
                 raise RuntimeError(f"stage {self._stage.name!r} stopped at load factor "
-                                   f"{m.load_factor:.6g}: finish it before starting "
-                                   f"{stage.name!r}")
+                                   f"{m.load_factor:.6g}: finish it (run_stage with that "
+                                   f"stage) before starting {stage.name!r}")
             m.finish_stage()
             self._stage_index += 1
         self._stage = stage
@@ -801,6 +810,103 @@ class Solver:
             return self.solve(1.0)
         finally:
             self.options = self._base_options
+
+    def _resume_stage(self, stage: Stage) -> list[StepRecord]:
+        """Go on with the stage a saved state stopped in (see resume): its
+        handles again (the callables of s are not saved), not its effect
+        options (the effects saved theirs), its solver options."""
+        m = self.model
+        before = [s.snapshot() for s in m.schedules()]
+        stage.apply(effects=False)
+        try:
+            self._check_following(self._resuming["following"], stage.name)
+        except ValueError:
+            for s, snap in zip(m.schedules(), before):
+                s.restore(snap)
+            raise
+        self._stage = stage
+        if m.update_constraints():   # the saved releases again: the same set, as a rule
+            self.snes.setJacobian(self._jacobian, *self.linear.operators(m.A))
+        self.options = dataclasses.replace(self._base_options, **stage.solver)
+        self._log(f"stage {self._stage_index}: {stage.name} resumed at s={m.load_factor:.6g}")
+        try:
+            return self.solve(1.0)
+        finally:
+            self.options = self._base_options
+
+    # -- saved states (textile.io.state_file) -------------------------------------
+    def position(self) -> dict:
+        """Where the run stands, for a saved state: the stage (name, index),
+        the run's time, the steps converged so far, the step size the next
+        step takes (0 once the stage is complete), the load factor of the
+        secant predictor's earlier state (-1: none) and the stability
+        counters (negative eigenvalues at the last step, round-off pivots
+        known to be zero eigenvalues); stage_started is 0 before any solve
+        (the next stage starts from the saved state)."""
+        m = self.model
+        within = self._stage_started and m.load_factor < 1.0 - 1e-14
+        return dict(stage=self._stage.name, stage_index=self._stage_index,
+                    stage_started=int(self._stage_started),
+                    time=self._stage_index + m.load_factor,
+                    steps=self._steps_before + len(self.history),
+                    next_step=float(self._next_step or 0.0) if within else 0.0,
+                    previous_load_factor=float(self._previous[0])
+                    if within and self._previous is not None else -1.0,
+                    negative_eigenvalues=self._negative, spurious_pivots=self._spurious)
+
+    def previous_state(self) -> PETSc.Vec | None:
+        """The secant predictor's earlier state (see position), or None."""
+        m = self.model
+        within = self._stage_started and m.load_factor < 1.0 - 1e-14
+        return self._previous[1] if within and self._previous is not None else None
+
+    def resume(self, position: dict, previous: PETSc.Vec | None,
+               following: list[np.ndarray], matrix_changed: bool = False) -> None:
+        """Continue from a saved state (:func:`textile.load_state`, which has
+        set the model): ``position`` as :meth:`position` gave it,
+        ``previous`` the predictor's earlier state, ``following`` per
+        schedule of the model the components that followed a callable of s
+        when saved. A state saved within a stage goes on in it with the
+        saved step size and predictor, as the saving run would have:
+        :meth:`run_stage` with that stage (or :meth:`solve` for a scene's
+        first, implicit stage). ``matrix_changed``: loading changed the
+        constrained set, so the model has a new system matrix."""
+        m = self.model
+        if matrix_changed:
+            self.resume_matrix()
+        self._stage = Stage(str(position["stage"]))
+        self._stage_index = int(position["stage_index"])
+        self._stage_started = bool(position.get("stage_started", True))
+        self._steps_before = int(position.get("steps", 0))
+        self._negative = int(position.get("negative_eigenvalues", 0))
+        self._spurious = int(position.get("spurious_pivots", 0))
+        self._previous = None
+        self._resuming = None
+        if self._stage_started and m.load_factor < 1.0 - 1e-14:
+            if previous is not None:
+                self._previous = (float(position["previous_load_factor"]), previous)
+            step = float(position.get("next_step", 0.0))
+            self._resuming = dict(next_step=step if step > 0 else None, following=following)
+
+    def resume_matrix(self) -> None:
+        """The model has a new system matrix (a loaded state changed the
+        constrained set): solve with it."""
+        self.snes.setJacobian(self._jacobian, *self.linear.operators(self.model.A))
+
+    def _check_following(self, saved: list[np.ndarray], stage: str) -> None:
+        """A resumed stage: the components that followed a callable of s
+        when the state was saved must follow one again (the Stage given to
+        run_stage, or the scene's own for its first stage)."""
+        for sched, mask in zip(self.model.schedules(), saved):
+            now = sched.following()
+            if now.shape != mask.shape or np.any(now != mask):
+                differ = np.flatnonzero(now != mask) if now.shape == mask.shape \
+                    else np.arange(len(mask))
+                raise ValueError(
+                    f"resuming stage {stage!r}: components {differ[:5].tolist()} of "
+                    f"schedule {sched.name!r} followed a callable of s when the state was "
+                    f"saved and do not now, or the other way round: resume with the Stage "
+                    f"that gives them (solver.run_stage(stage)), on the scene built as it was")
 
     def _residual_norm(self, x: PETSc.Vec) -> float:
         """Norm of the residual at x with the constraints of the current
@@ -827,6 +933,12 @@ class Solver:
             raise ValueError(f"t_end must be a finite number, got {t_end!r}")
         t = m.load_factor
         dt = min(o.initial_step, o.max_step)
+        if self._resuming is not None:
+            # a stage resumed from a saved state: its step size and callables
+            self._check_following(self._resuming["following"], self._stage.name)
+            resuming, self._resuming = self._resuming, None
+            if resuming["next_step"] is not None:
+                dt = resuming["next_step"]
         x_saved = m.x.copy()
         attempts = 0
         while t < t_end - 1e-14:
@@ -864,9 +976,17 @@ class Solver:
             stats = {}
             for e in m.effects:
                 stats.update(e.statistics())
-            rec = StepRecord(len(self.history) + 1, t, attempt.iterations, attempts,
-                             attempt.residual_norms, time.perf_counter() - t0, attempt.reason,
-                             self.comm.allreduce(m.beam.energy), attempt.updates, stats,
+            # the next step's size (known before on_step: a state saved there
+            # goes on as this run does)
+            if attempt.iterations <= o.easy_iterations:
+                dt = min(step * o.grow, o.max_step)
+            else:
+                dt = step
+            self._next_step = dt
+            rec = StepRecord(self._steps_before + len(self.history) + 1, t, attempt.iterations,
+                             attempts, attempt.residual_norms, time.perf_counter() - t0,
+                             attempt.reason, self.comm.allreduce(m.beam.energy),
+                             attempt.updates, stats,
                              m.residual_groups.as_dict(m.residual_norms), stability,
                              self._stage.name, self._stage_index + t)
             self.history.append(rec)
@@ -883,8 +1003,4 @@ class Solver:
                 self.output.write_step(self, rec)
             if self.on_step is not None:
                 self.on_step(self, rec)
-            if attempt.iterations <= o.easy_iterations:
-                dt = min(step * o.grow, o.max_step)
-            else:
-                dt = step
         return self.history

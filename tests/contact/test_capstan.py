@@ -33,7 +33,7 @@ THETA = math.pi / 2  # wrap angle
 T = 1e-2 * E * math.pi * r * r  # a strain of 1%
 
 
-def capstan(mu: float, arc_elements: int = 16, leg_elements: int = 8):
+def capstan(mu: float, arc_elements: int = 16, leg_elements: int = 8, comm=MPI.COMM_SELF):
     """The scene; returns (model, B, contact, handle of end 2's displacement,
     unit direction of leg 2 away from the wrap)."""
     leg = 2 * R
@@ -47,7 +47,7 @@ def capstan(mu: float, arc_elements: int = 16, leg_elements: int = 8):
     B = textile.Fibre(np.array(pts), r, MAT, [0, 1, 0])
     A = textile.straight_fibre([0, -2 * R, 0], [0, 2 * R, 0], R, MAT, num_elements=4,
                                section_vector=[1, 0, 0])
-    model = textile.Model([A, B], comm=MPI.COMM_SELF)
+    model = textile.Model([A, B], comm=comm)
     for n in range(A.num_nodes):
         model.fix(A, n, "all")
     model.add_force(B, 0, [-T, 0, 0])
@@ -81,18 +81,25 @@ def test_frictionless_wrap_is_spread_and_transmits_the_tension():
     assert np.linalg.norm(resultant) == pytest.approx(math.sqrt(2) * T, rel=1e-2)
 
 
-@pytest.mark.parametrize("arc_elements", [8, 16])
-def test_capstan_ratio_with_friction(arc_elements):
-    """mu = 0.3: B first slides towards end 1 under T (end 2 held), then
-    towards end 2 once end 2 is pulled by 4 r."""
-    mu = 0.3
-    model, B, contact, end, out = capstan(mu, arc_elements)
+def tension_then_pull(mu: float, arc_elements: int, comm=MPI.COMM_SELF):
+    """B slides under T (end 2 held), then end 2 is pulled by 4 r along its
+    leg; returns (model, B, contact, the tension ratio after every step)."""
+    model, B, contact, end, out = capstan(mu, arc_elements, comm=comm)
     ratios = []
     solver = textile.Solver(model, dict(initial_step=0.25, max_step=0.25, verbose=False),
                             on_step=lambda s, rec: ratios.append(tension_ratio(model, B, out)))
     solver.run([textile.Stage("tension"),
                 textile.Stage("pull", ramp={end: list(4 * r * out) + [0.0, 0.0]},
                               solver=dict(initial_step=0.1, max_step=0.1))])
+    return model, B, contact, np.array(ratios)
+
+
+@pytest.mark.parametrize("arc_elements", [8, 16])
+def test_capstan_ratio_with_friction(arc_elements):
+    """mu = 0.3: B first slides towards end 1 under T (end 2 held), then
+    towards end 2 once end 2 is pulled by 4 r."""
+    mu = 0.3
+    model, B, contact, ratios = tension_then_pull(mu, arc_elements)
     thick = math.exp(mu * THETA * R / RHO)
     # end of the tension stage: sliding towards end 1 (measured +0.03%)
     assert ratios[3] == pytest.approx(1 / thick, rel=2e-3)
@@ -103,3 +110,16 @@ def test_capstan_ratio_with_friction(arc_elements):
     assert np.all(d["slip"][active])
     assert ratios[-1] == pytest.approx(thick, rel=2e-3)
     assert ratios[-1] == pytest.approx(math.exp(mu * THETA), rel=1e-2)
+
+
+@pytest.mark.mpi
+def test_capstan_on_two_ranks_equals_one():
+    """The sliding wrap, split between the ranks, gives the one-rank
+    positions (measured 9e-16 R, round-off) and tension ratios (measured
+    2e-11: the support's reaction sums stiff contact forces, added in
+    another order on two ranks)."""
+    serial, parallel = (tension_then_pull(0.3, 8, comm) for comm in (MPI.COMM_SELF,
+                                                                     MPI.COMM_WORLD))
+    assert np.abs(parallel[3] - serial[3]).max() < 1e-10 * np.abs(serial[3]).max()
+    qs, qp = serial[0].nodal_unknowns(), parallel[0].nodal_unknowns()
+    assert np.abs(qp[:, 0:3] - qs[:, 0:3]).max() < 1e-13 * R

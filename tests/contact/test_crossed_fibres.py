@@ -20,18 +20,21 @@ def penetration(force, k, g_r):
     return force / k + g_r / 2
 
 
-@pytest.mark.parametrize("num_elements", [8, 16])
-def test_force_displacement(num_elements):
-    E, nu, R, L = 1.0e9, 0.3, 1e-3, 0.1
-    mat = textile.Material(E, nu)
-    I = np.pi * R ** 4 / 4
+E, NU, R, L = 1.0e9, 0.3, 1e-3, 0.1
+DELTA, K, REG = 2e-4, 1e5, 0.05
+
+
+def pressed(num_elements, comm=MPI.COMM_SELF):
+    """B's ends lowered by DELTA onto A in 8 steps; returns (model, A, B,
+    [(end displacement, step statistics)])."""
+    mat = textile.Material(E, NU)
     A = textile.straight_fibre([0, -L / 2, 0], [0, L / 2, 0], R, mat, num_elements=num_elements)
     B = textile.straight_fibre([-L / 2, 0, 2 * R], [L / 2, 0, 2 * R], R, mat,
                                num_elements=num_elements)
-    model = textile.Model([A, B], comm=MPI.COMM_SELF)
+    model = textile.Model([A, B], comm=comm)
     for n in range(A.num_nodes):
         model.fix(A, n, "all")
-    delta, k, reg = 2e-4, 1e5, 0.05
+    delta, k, reg = DELTA, K, REG
     model.fix(B, 0, ["position", "g1x"], [0, 0, -delta, 0])
     model.fix(B, -1, ["y", "z"], [0, -delta])
     # penalty per unit length: a crossing stands for r_i + r_j = 2R of
@@ -43,6 +46,14 @@ def test_force_displacement(num_elements):
                             on_step=lambda s, rec: curve.append(
                                 (s.model.load_factor * delta, rec.effects)))
     solver.solve()
+    return model, A, B, curve
+
+
+@pytest.mark.parametrize("num_elements", [8, 16])
+def test_force_displacement(num_elements):
+    I = np.pi * R ** 4 / 4
+    delta, k, reg = DELTA, K, REG
+    model, A, B, curve = pressed(num_elements)
     assert len(curve) == 8
     for d, stats in curve:
         f = stats["contact_force_sum"]
@@ -61,3 +72,23 @@ def test_force_displacement(num_elements):
     # force (the contact's share of constrained rows counts as reaction)
     held = sum(model.reaction(A, n, "z")[0] for n in range(A.num_nodes))
     assert held == pytest.approx(curve[-1][1]["contact_force_sum"], rel=1e-6)
+
+
+def supports(model, A, B) -> np.ndarray:
+    """(A's held nodes' z reactions summed, B's two supports' z)."""
+    held = sum(model.reaction(A, n, "z")[0] for n in range(A.num_nodes))
+    return np.array([held, model.reaction(B, 0, "z")[0], model.reaction(B, -1, "z")[0]])
+
+
+@pytest.mark.mpi
+def test_contact_reactions_on_two_ranks():
+    """The contact's share of the prescribed rows counts as reaction on any
+    partition: A (held at every node) on one rank, B on the other, the
+    crossing between them; the reactions are the serial ones (measured
+    5e-12: the penalty's stiff forces summed in another order) and A's
+    supports take the whole contact force."""
+    serial, parallel = pressed(8), pressed(8, MPI.COMM_WORLD)
+    rs, rp = supports(*serial[:3]), supports(*parallel[:3])
+    force = parallel[3][-1][1]["contact_force_sum"]
+    assert rp[0] == pytest.approx(force, rel=1e-6)   # equilibrium, to the Newton tolerance
+    assert np.abs(rp - rs).max() < 2e-11 * np.abs(rs).max()

@@ -11,6 +11,14 @@ from dataclasses import dataclass, field
 import numpy as np
 from petsc4py import PETSc
 
+#: Relative difference (to the largest value of the quantity) within which a
+#: saved scene's reference values (fibre and matrix node coordinates,
+#: junction points, body centres) are this model's: a scene built again,
+#: on any number of ranks, gives them to round-off (measured 2e-16 for the
+#: matrix nodes of 1 and 2 ranks, tests/io/test_state_file.py); another
+#: scene differs by far more.
+SAME_SCENE_RTOL = 1e-12
+
 
 @dataclass
 class State:
@@ -78,6 +86,15 @@ class Effect:
         small u is. Called after setup; fields not listed count as zero."""
         return {}
 
+    def block_keys(self, field: str) -> np.ndarray:
+        """For a field this effect brings: (local blocks, k) int64 rows, one
+        per block (owned then ghost), naming the block the same way whatever
+        the partition (a matrix node by its mesh input vertices, a rigid
+        body by its index, ...). A saved state writes and reads the field by
+        these keys (:mod:`textile.io.state_file`)."""
+        raise NotImplementedError(f"{type(self).__name__} brings field {field!r} but no "
+                                  f"block_keys for saved states")
+
     def add_sparsity(self, sparsity) -> None:
         """Insert the blocks this effect will fill."""
 
@@ -134,3 +151,25 @@ class Effect:
     def statistics(self) -> dict:
         """Scalars worth logging per step (merged into results.json)."""
         return {}
+
+    # -- saved states (textile.io.state_file) ------------------------------
+    #: Name of the effect's group in a state file, None if it saves nothing
+    #: beyond its fields' unknowns (which the state file writes by block key).
+    state_name: str | None = None
+
+    def save_state(self, model) -> dict:
+        """Name -> array of what the effect needs, besides its fields'
+        unknowns, to continue exactly (history) and to recognize its scene
+        (e.g. its material, its bodies' names), independent of the
+        partition. Collective; the result counts on rank 0 only."""
+        return {}
+
+    def check_state(self, model, data: dict) -> None:
+        """Raise ValueError naming what differs if ``data`` (save_state's
+        output read back; empty if the file has none) is not this effect's
+        scene. Called before anything is loaded, so a refused file leaves
+        the model as it was. Every rank sees the same data."""
+
+    def load_state(self, model, data: dict) -> None:
+        """Restore the history saved by save_state (after check_state, with
+        the unknowns already loaded)."""

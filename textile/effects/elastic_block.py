@@ -266,6 +266,33 @@ class ElasticBlock(Effect):
         # the junctions and rigid couplings place the node at X + u
         return {self.name: np.ascontiguousarray(self.node_coordinates().ravel())}
 
+    def block_keys(self, field: str) -> np.ndarray:
+        return self.node_keys()
+
+    # -- saved states (textile.io.state_file) ----------------------------------
+    @property
+    def state_name(self) -> str:
+        return f"elastic block {self.name}"
+
+    def save_state(self, model) -> dict:
+        """No history (a hyperelastic solid: its state is its displacement,
+        saved by node key as the field's unknowns); its law, material and
+        degree, to recognize the scene."""
+        return dict(law=np.bytes_(self.law), young=self.young, poisson=self.poisson,
+                    degree=np.int64(self.degree))
+
+    def check_state(self, model, data: dict) -> None:
+        label = f"the state file's block {self.name!r}"
+        if not data:
+            raise ValueError(f"the state file has no elastic block {self.name!r}; the model has "
+                             f"one: save the state with the matrix in the scene")
+        saved = (bytes(data["law"]).decode(), float(data["young"]), float(data["poisson"]),
+                 int(data["degree"]))
+        mine = (self.law, self.young, self.poisson, self.degree)
+        if saved != mine:
+            raise ValueError(f"{label} is (law, E, nu, degree) = {saved}, this model's "
+                             f"{mine}")
+
     def setup(self, model) -> None:
         self._model = model
         layout = model.layout
@@ -408,6 +435,35 @@ class ElasticBlock(Effect):
         """(local nodes, 3) reference coordinates of the field's nodes (block
         dofs, owned then ghosts)."""
         return self.V.tabulate_dof_coordinates()
+
+    def node_keys(self) -> np.ndarray:
+        """(local nodes, 2) int64: each node of the field (owned then ghost)
+        named independently of the partition, from the mesh's input vertex
+        indices (the vertices' order in the mesh as read or generated,
+        ``geometry.input_global_indices``): a vertex node (v, v), an edge
+        node of P2 (a, b) with a < b its edge's vertices."""
+        msh = self.mesh
+        inputs = np.asarray(msh.geometry.input_global_indices, dtype=np.int64)
+        # affine cells: the geometry's cell nodes are the cell's vertices, in
+        # the reference order the field's dof layout refers to
+        vertices = inputs[msh.geometry.dofmap.array.reshape(-1, 4)]
+        cell_nodes = self.V.dofmap.list.array.reshape(-1, self.nodes_per_cell)
+        layout = self.V.dofmap.dof_layout
+        topology = basix.topology(basix.CellType.tetrahedron)
+        imap = self.V.dofmap.index_map
+        keys = np.full((imap.size_local + imap.num_ghosts, 2), -1, dtype=np.int64)
+        for dim, entities in enumerate(topology):
+            for e, verts in enumerate(entities):
+                dofs = layout.entity_dofs(dim, e)
+                if (len(dofs) and dim > 1) or len(dofs) > 1:
+                    raise NotImplementedError("ElasticBlock.node_keys: nodes on faces, cells or "
+                                              "several on an edge (degree > 2)")
+                if len(dofs):
+                    v = np.sort(vertices[:, verts], axis=1)
+                    keys[cell_nodes[:, dofs[0]]] = v[:, [0, -1]]
+        if np.any(keys < 0):
+            raise RuntimeError("ElasticBlock.node_keys: a node of the field lies in no local cell")
+        return keys
 
     def cell_dofs(self, cells) -> np.ndarray:
         """(n, :attr:`nodes_per_cell`) local block dofs (node indices of the

@@ -548,13 +548,24 @@ class FibreContact(Effect):
         out.update(weaving_done=np.int64(self._weaving_done))
         return out
 
+    def check_state(self, model, data: dict) -> None:
+        if not data:
+            raise ValueError("the state file holds no fibre contact history, the model has "
+                             "FibreContact: save the state with the contact in the scene")
+        missing = [k for k in self.SAVED + ("num_zones", "mode") if k not in data]
+        if missing:
+            raise ValueError(f"the state file's fibre contact history lacks {missing}")
+        n = len(model.mesh.fibres)
+        fibres = np.concatenate([np.asarray(data["fibre_i"]), np.asarray(data["fibre_j"])])
+        if len(fibres) and (fibres.min() < 0 or fibres.max() >= n):
+            raise ValueError(f"the state file's contacts name fibre {int(fibres.max())}, this "
+                             f"model has {n} fibres")
+
     def load_state(self, model, data: dict) -> None:
         """Restore what save_state wrote: this rank's elements (its owned
         range, whatever the partition that saved them), evaluated at the
         loaded unknowns, as the committed set; mode and order."""
-        if not data:
-            raise ValueError("the state file holds no fibre contact history, the model has "
-                             "FibreContact: save the state with the contact in the scene")
+        self.check_state(model, data)
         mode = self.MODES[int(data["mode"])]
         if mode == "weaving":
             self.configure(mode=mode, fibre_yarn=data["fibre_yarn"],

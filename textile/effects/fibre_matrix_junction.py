@@ -78,7 +78,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .. import _cpp
-from .base import Effect, State
+from .base import SAME_SCENE_RTOL, Effect, State
 from .elastic_block import ElasticBlock
 
 #: default stiffness per unit fibre length = STIFFNESS_FACTOR * E_m (N/m^2)
@@ -353,6 +353,50 @@ class FibreMatrixJunctions(Effect):
                 "junction_length": self.total_weight,
                 "junction_off_rank_fraction": self.off_rank_fraction,
                 "junction_tangent_assemblies": self.tangent_assemblies}
+
+    # -- saved states (textile.io.state_file) ---------------------------------
+    @property
+    def state_name(self) -> str:
+        return f"junctions {self.block.name}"
+
+    #: columns of a saved junction: where it was made and how stiff
+    SAVED = ("element", "xi", "c1", "c2", "weight", "stiffness", "x", "y", "z")
+
+    def _all_junctions(self, everywhere: bool) -> np.ndarray:
+        """(junctions, 9) of every rank (columns SAVED), sorted: on every
+        rank, or complete on rank 0 only (collective)."""
+        mine = np.column_stack([self._elem_global.astype(float), self._xi, self._section,
+                                self._weight, np.full(len(self._xi), self.stiffness),
+                                self._points]).reshape(-1, 9)
+        comm = self._model.comm
+        parts = comm.allgather(mine) if everywhere else comm.gather(mine, root=0)
+        if parts is None:
+            return np.zeros((0, 9))
+        out = np.concatenate(parts)
+        return out[np.lexsort(out.T[::-1])]
+
+    def save_state(self, model) -> dict:
+        """No history (a quadratic penalty between fibre and matrix
+        unknowns, both saved); where the junctions were made and how stiff
+        they are (the scene)."""
+        return dict(junctions=self._all_junctions(everywhere=False))
+
+    def check_state(self, model, data: dict) -> None:
+        name = self.block.name
+        if not data:
+            raise ValueError(f"the state file has no junctions to block {name!r}; the model has "
+                             f"{self.num_junctions}")
+        saved, mine = np.asarray(data["junctions"]), self._all_junctions(everywhere=True)
+        if saved.shape != mine.shape:
+            raise ValueError(f"the state file has {len(saved)} junctions to block {name!r}, "
+                             f"this model {len(mine)}")
+        scale = np.maximum(np.abs(mine).max(axis=0, initial=0.0), np.finfo(float).tiny)
+        differ = (np.abs(saved - mine) > SAME_SCENE_RTOL * scale).any(axis=0)
+        if differ.any():
+            cols = [w for w, d in zip(self.SAVED, differ) if d]
+            raise ValueError(f"the junctions to block {name!r} in the state file differ from "
+                             f"this model's in {cols} (another fabric, woven state or "
+                             f"stiffness)")
 
     # -- results ------------------------------------------------------------
     def _state(self):

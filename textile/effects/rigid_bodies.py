@@ -463,54 +463,43 @@ class RigidBodies(Effect):
     # -- saved states (textile.io.state_file) ----------------------------------
     state_name = "rigid bodies"
 
-    def _keys(self, model) -> list:
-        """(body, global fibre node, kind) of each fibre coupling of this rank
-        (partition independent), None for block nodes."""
-        return [None if k == BLOCK_NODE else (int(b), int(model.mesh.local_to_global[n]), int(k))
-                for b, n, k in zip(self._body, self._node_local, self._kind)]
+    def block_keys(self, field: str) -> np.ndarray:
+        """"rigid": the body's index (every rank holds every body).
+        "rigid_multipliers": per constraint row (body, kind, what it holds:
+        the global fibre node and -1, or the block node's key
+        (ElasticBlock.node_keys), row of the coupling)."""
+        if field == "rigid":
+            return np.arange(len(self.bodies), dtype=np.int64)[:, None]
+        held = np.zeros((len(self._held), 2), dtype=np.int64)
+        fibre = ~self._is_block
+        held[fibre, 0] = self._held_nodes[fibre]
+        held[fibre, 1] = -1
+        if self._is_block.any():
+            held[self._is_block] = self.block.node_keys()[self._node_local[self._is_block]]
+        coupling = np.repeat(np.arange(len(self._held)), self._rows)
+        row = np.arange(int(self._rows.sum())) - np.repeat(self._multiplier, self._rows)
+        return np.column_stack([self._body[coupling], self._kind[coupling], held[coupling],
+                                row]).astype(np.int64).reshape(-1, 5)
 
     def save_state(self, model) -> dict:
-        """Bodies' unknowns and accumulated rotations, multipliers of the
-        fibre couplings by (body, fibre node, kind): independent of the MPI
-        partition. Block nodes' multipliers are not saved (the block's
-        displacement is not saved either, and dolfinx's node numbers depend
-        on the partition); they restart at zero, which Newton corrects in
-        its first iteration (the constraints are linear in them).
-        Collective; the result is complete on rank 0."""
-        st = model.state()
-        lam = st.u["rigid_multipliers"]
-        keys = self._keys(model)
-        values = [np.pad(lam[m:m + r], (0, 9 - r))
-                  for key, m, r in zip(keys, self._multiplier, self._rows) if key is not None]
-        keys = sum(model.comm.gather([k for k in keys if k is not None], root=0) or [], [])
-        vals = sum(model.comm.gather(values, root=0) or [], [])
-        return dict(unknowns=st.u["rigid"].reshape(-1, 6)[:len(self.bodies)],
-                    rotation=self.rotation, turned=self.turned,
-                    coupling_keys=np.array(keys, dtype=np.int64).reshape(-1, 3),
-                    multipliers=np.array(vals).reshape(-1, 9))
+        """The bodies' names and accumulated rotations (R_n, and the sum of
+        the increments); their unknowns and the couplings' multipliers are
+        the fields "rigid" and "rigid_multipliers", saved by key."""
+        return dict(names=np.array([b.name for b in self.bodies], dtype=np.bytes_),
+                    rotation=self.rotation, turned=self.turned)
+
+    def check_state(self, model, data: dict) -> None:
+        mine = [b.name for b in self.bodies]
+        if not data:
+            raise ValueError(f"the state file has no rigid bodies; the model has {mine}")
+        saved = [bytes(n).decode() for n in np.atleast_1d(data["names"])]
+        if saved != mine:
+            raise ValueError(f"the state file's rigid bodies are {saved}, this model's {mine}")
 
     def load_state(self, model, data: dict) -> None:
-        if not data:
-            raise ValueError("the state file holds no rigid bodies, the model has some")
-        if data["unknowns"].shape != (len(self.bodies), 6):
-            raise ValueError(f"the state file holds {len(data['unknowns'])} rigid bodies, the "
-                             f"model has {len(self.bodies)}")
-        self.rotation = np.array(data["rotation"])
-        self.turned = np.array(data["turned"])
+        self.rotation = np.array(data["rotation"], dtype=float).reshape(-1, 3, 3)
+        self.turned = np.array(data["turned"], dtype=float).reshape(-1, 3)
         self._set_couplings()
-        saved = {tuple(k): v for k, v in zip(data["coupling_keys"].tolist(), data["multipliers"])}
-        arrays = [a.copy() for a in model.layout.get_local(model.x)]
-        arrays[model.layout.index("rigid")][:] = data["unknowns"].ravel()
-        lam = arrays[model.layout.index("rigid_multipliers")]
-        for key, m, r in zip(self._keys(model), self._multiplier, self._rows):
-            if key is None:
-                lam[m:m + r] = 0.0
-                continue
-            if key not in saved:
-                raise ValueError(f"the state file has no coupling of body {key[0]} to node "
-                                 f"{key[1]} (kind {key[2]})")
-            lam[m:m + r] = saved[key][:r]
-        model.layout.scatter(model.x, arrays)
 
     # -- results ---------------------------------------------------------------
     def _reactions(self, model, couplings: np.ndarray | None) -> np.ndarray:
