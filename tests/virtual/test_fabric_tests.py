@@ -76,13 +76,16 @@ def test_biaxial_crimp_interchange(woven):
         result = Tension(fabric(), woven, 0.01, ratio=ratio, steps=2, comm=MPI.COMM_SELF).run()
         assert result.force_balance < BALANCE
         stiffness.append(result.figures["membrane stiffness (force per width per strain)"])
-    # measured 9.35e4 (ratio 0), 1.03e5 (0.5), 1.12e5 (1) N/m
+    # measured 9.34e4 (ratio 0), 1.04e5 (0.5), 1.14e5 (1) N/m (benchmarks/
+    # README.md: a measurement; the small-strain uniaxial stiffness is
+    # tested against a model in test_fabric_references.py)
     assert stiffness[0] < stiffness[1] < stiffness[2]
 
 
 def test_shear_reversed_is_the_mirror_curve(woven):
     """The paper's shear one way and the other: on a balanced plain weave
-    the force increments are opposite within 2% (measured 3.5e-4)."""
+    the force increments are opposite: measured 1.4e-4 of the largest
+    (the two runs' Newton and contact-loop tolerances); tolerance 5e-4."""
     L = fabric().spacing[0]
     plus = Shear(fabric(), woven, 0.2 * L, steps=5, comm=MPI.COMM_SELF).run()
     minus = Shear(fabric(), woven, -0.2 * L, steps=5, comm=MPI.COMM_SELF).run()
@@ -90,7 +93,7 @@ def test_shear_reversed_is_the_mirror_curve(woven):
     xm, ym = increments(minus)
     assert np.allclose(xp, -xm, rtol=0, atol=1e-12)
     assert np.all(np.diff(yp) > 0)
-    assert np.abs(yp[1:] + ym[1:]).max() < 0.02 * np.abs(yp[1:]).max()
+    assert np.abs(yp[1:] + ym[1:]).max() < 5e-4 * np.abs(yp[1:]).max()
     assert max(plus.force_balance, minus.force_balance) < BALANCE
     assert plus.figures["shear stiffness (force per width per radian)"] > 0
     guard.newton_count("fabric virtual shear", plus)
