@@ -25,9 +25,10 @@ R = 0.1e-3
 FIBRE = textile.Material(5.0e9, 0.35)
 EA = FIBRE.young * math.pi * R ** 2
 QUIET = dict(verbose=False)
-#: force balance of the side bodies: the Newton tolerance's level (measured
-#: 1e-15 of the largest body force)
-BALANCE = 1e-6
+#: force balance of the side bodies, relative to the largest body force:
+#: what Newton leaves of the residual (rtol 1e-10 of the force scale);
+#: measured 1e-15
+BALANCE = 1e-10
 
 
 def fabric():
