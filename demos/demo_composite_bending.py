@@ -50,7 +50,11 @@ What to look at
   junction figures, the smallest det F of the matrix.
 
 The moment is compared with the matrix plate bent cylindrically,
-E b h^3 / (12 (1 - nu^2)) theta / L (the fibres add their share).
+E b h^3 / (12 (1 - nu^2)) theta / L, and checked between two plate
+references (``textile.virtual_tests.plate_references``): the matrix free to
+curl across its width with fibres not bonded to it, and the matrix in plane
+strain with perfectly bonded fibres. The demo fails (exit status 1) when
+the moment falls outside.
 
 Run: ``python3 demos/demo_composite_bending.py [--output DIR] [--woven FILE]
 [--fibres N] [--spacing S] [--angle DEG] [--steps N] [--size H] [--degree D]``
@@ -65,7 +69,7 @@ from mpi4py import MPI
 
 import textile
 from textile.fabric import Fabric
-from textile.virtual_tests import Bending
+from textile.virtual_tests import Bending, plate_references
 from textile.weaving import woven_state
 from textile.yarn import Yarn
 
@@ -115,22 +119,33 @@ if comm.rank == 0:
 #    the voids on the compressed side.
 result = test.run()
 
+# 4. The check: between the plate references
+#    (textile.virtual_tests.plate_references), the matrix free to curl with
+#    unbonded fibres (lower) and the matrix in plane strain with perfectly
+#    bonded fibres (upper). A wrong answer (a locking matrix, lost
+#    junctions) falls outside; the demo then fails.
+lower, upper = plate_references.bending_bracket(composite)
+plate = plate_references.matrix_plate_bending(composite)
 if comm.rank == 0:
-    length, width, thickness = composite.corners[1] - composite.corners[0]
-    nu = matrix_material.poisson
-    plate = matrix_material.young * width * thickness ** 3 / (12 * (1 - nu ** 2)) / length
     print("angle [deg]  moment [N m]  (M - M0) / matrix plate  largest gap opening on the "
           "compressed side [m] (fibres)")
     m0 = result.curve.y[0]   # the moment the release left
+    ratios = []
     for s in result.steps:
-        ratio = (s["y"] - m0) / (plate * math.radians(s["x"]))
+        ratios.append((s["y"] - m0) / (plate * math.radians(s["x"])))
         opening = s.get("largest gap opening on the compressed side")
         words = "-" if opening is None else \
             f"{opening:.3e} {s['fibres of the largest gap opening']}"
-        print(f"{s['x']:11.3f}  {s['y']:12.5g}  {ratio:23.4f}  {words}")
+        print(f"{s['x']:11.3f}  {s['y']:12.5g}  {ratios[-1]:23.4f}  {words}")
     stiffness = result.figures["bending stiffness per width (moment per width per unit "
                                "curvature)"]
     print(f"moment at {result.curve.x[-1]:.1f} deg: {result.curve.y[-1]:.4g} N m; bending "
           f"stiffness per width {stiffness:.4g} N m; force balance {result.force_balance:.1e}")
+    ok = all(lower / plate < r < upper / plate for r in ratios)
+    print(f"(M - M0) / angle between the plate references {lower / plate:.4f} and "
+          f"{upper / plate:.4f} of the matrix plate: "
+          + ("yes" if ok else "NO: BENDING CHECK FAILED"))
     print(f"files in {args.output}: scene.pvd, bending.png, bending.csv, bending.json, "
           f"bending_fibres.txt, results.json" + ("" if args.woven else ", woven.h5"))
+    if not ok:
+        raise SystemExit(1)

@@ -35,7 +35,7 @@ import numpy as np
 from mpi4py import MPI
 
 from .block_nodes import BlockNodes
-from .effects.elastic_block import ElasticBlock
+from .effects.elastic_block import DEGREES, LAWS, ElasticBlock
 from .effects.fibre_matrix_junction import FibreMatrixJunctions
 from .fabric import Fabric
 from .material import Material
@@ -75,8 +75,9 @@ class Composite(Sample):
     degree:
         1 or 2 (default): Lagrange degree of the matrix displacement. A
         thin composite has one or two coarse tetrahedra through its
-        thickness: linear ones lock in bending (the 2 x 2 demo composite
-        comes out 4.6 times too stiff with P1), quadratic ones do not.
+        thickness: linear ones lock in bending (4.24 times the P2
+        stiffness on the tests' 2 x 2 monofilament composite,
+        tests/virtual/test_composite_tests.py), quadratic ones do not.
     law:
         "neo-hookean" (default) or "svk" for the matrix.
     junction_stiffness:
@@ -105,10 +106,28 @@ class Composite(Sample):
             if isinstance(v, bool) or not isinstance(v, numbers.Real) or not np.isfinite(v) \
                     or v < 0 or (name == "size" and v == 0):
                 raise ValueError(f"Composite: {name} must be a positive length, got {v!r}")
+        # checked here, before the matrix is meshed (the block and the
+        # junctions check them again)
+        if isinstance(degree, bool) or not isinstance(degree, numbers.Integral) \
+                or degree not in DEGREES:
+            raise ValueError(f"Composite: degree must be one of {DEGREES}, got {degree!r}")
+        if law not in LAWS:
+            raise ValueError(f"Composite: law must be one of {LAWS}, got {law!r}")
+        if junction_stiffness is not None and (
+                isinstance(junction_stiffness, bool)
+                or not isinstance(junction_stiffness, numbers.Real)
+                or not np.isfinite(junction_stiffness) or junction_stiffness <= 0):
+            raise ValueError(f"Composite: junction_stiffness must be a positive number (force "
+                             f"per length squared) or None, got {junction_stiffness!r}")
         self._matrix = dict(material=matrix, size=size, overlap=overlap, degree=degree, law=law,
                             junction_stiffness=junction_stiffness)
         super().__init__(fabric, woven, sides=sides, contact=contact, free_ends="fibres",
                          comm=comm)
+
+    @property
+    def matrix(self) -> Material:
+        """The matrix's material."""
+        return self._matrix["material"]
 
     def _add_matrix(self, configuration: np.ndarray) -> None:
         """The matrix box around ``configuration``, its block and the junctions."""

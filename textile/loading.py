@@ -21,6 +21,7 @@ A :class:`Handle` names some components of a schedule (what ``Model.fix``,
 """
 from __future__ import annotations
 
+import inspect
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -137,6 +138,23 @@ class Schedule:
         self.active[handle.index] = False
 
 
+def stage_options(effect) -> set[str]:
+    """The options ``effect.configure`` declares: its named parameters (a
+    catch-all ``**options`` declares none; configure refuses what it does
+    not know)."""
+    kinds = (inspect.Parameter.POSITIONAL_OR_KEYWORD, inspect.Parameter.KEYWORD_ONLY)
+    return {p.name for p in inspect.signature(effect.configure).parameters.values()
+            if p.kind in kinds}
+
+
+def _numeric(value) -> bool:
+    try:
+        np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        return False
+    return True
+
+
 @dataclass
 class Stage:
     """One stage of a run.
@@ -162,6 +180,55 @@ class Stage:
     release: list = field(default_factory=list)
     effects: dict = field(default_factory=dict)
     solver: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        """Every check that needs no model, when the stage is made: a bad
+        stage is refused before a run starts (or, made between stages of a
+        run, without touching it), never half applied."""
+        if not isinstance(self.name, str) or not self.name:
+            raise ValueError(f"Stage: name must be a non-empty string, got {self.name!r}")
+        label = f"Stage {self.name!r}"
+        for attribute in ("ramp", "effects", "solver"):
+            if not isinstance(getattr(self, attribute), dict):
+                raise TypeError(f"{label}: {attribute} must be a dict, got "
+                                f"{type(getattr(self, attribute)).__name__}")
+        if isinstance(self.release, (str, bytes, dict)) or not hasattr(self.release, "__iter__"):
+            raise TypeError(f"{label}: release must be a list of handles, got "
+                            f"{type(self.release).__name__}")
+        self.release = list(self.release)
+        for h, target in self.ramp.items():
+            if not isinstance(h, Handle):
+                raise TypeError(f"{label}: ramp keys must be handles (what Model.fix, "
+                                f"Model.add_force, ... return), got {h!r}")
+            if not callable(target):
+                t = np.asarray(target, dtype=float) if _numeric(target) else None
+                if t is None or t.ndim > 1 or t.size not in (1, len(h.index)) \
+                        or not np.all(np.isfinite(t)):
+                    raise ValueError(f"{label}: the ramp target of {h.label} must be finite "
+                                     f"numbers (one, or one per component: {len(h.index)}) "
+                                     f"or a callable of the stage's load factor, got "
+                                     f"{target!r}")
+        for h in self.release:
+            if not isinstance(h, Handle):
+                raise TypeError(f"{label}: release items must be handles, got {h!r}")
+            for r in self.ramp:
+                if r.schedule is h.schedule and np.isin(r.index, h.index).any():
+                    raise ValueError(f"{label}: {h.label} is both ramped and released; a "
+                                     f"released prescription no longer has a value to ramp "
+                                     f"(ramp it in one stage, release it in the next)")
+        for effect, options in self.effects.items():
+            if not callable(getattr(effect, "configure", None)):
+                raise TypeError(f"{label}: effects keys must be effects (with configure), got "
+                                f"{effect!r}")
+            if not isinstance(options, dict):
+                raise TypeError(f"{label}: the options of {type(effect).__name__} must be a "
+                                f"dict, got {options!r}")
+            unknown = sorted(set(options) - stage_options(effect))
+            if unknown:
+                allowed = sorted(stage_options(effect))
+                raise ValueError(f"{label}: unknown stage option(s) {unknown} of "
+                                 f"{type(effect).__name__}; allowed: "
+                                 f"{allowed if allowed else 'none'}")
 
     def apply(self, effects: bool = True) -> bool:
         """Set the targets and releases of the stage's handles, and (with

@@ -35,12 +35,14 @@ materials' Young's modulus times an area); angles in radians.
 """
 from __future__ import annotations
 
+import os
+
 import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
 from . import fabric_measures
-from .effects.fibre_contact import FibreContact
+from .effects.fibre_contact import ContactOptions, FibreContact
 from .fabric import Fabric
 from .io import fabric_labels
 from .io.state_file import load_fibres, saved_configuration
@@ -102,6 +104,17 @@ class Sample:
         if not isinstance(fabric, Fabric):
             raise TypeError(f"{name}: fabric must be a textile.fabric.Fabric, got "
                             f"{type(fabric).__name__}")
+        if woven is not None and not isinstance(woven, (str, os.PathLike)):
+            raise TypeError(f"{name}: woven must be the path of a saved woven state or None, "
+                            f"got {type(woven).__name__}")
+        if not (contact is None or contact is False or isinstance(contact, (dict,
+                                                                            ContactOptions))):
+            raise TypeError(f"{name}: contact must be a dict or ContactOptions of contact "
+                            f"options, None (the defaults) or False (no contact), got "
+                            f"{contact!r}")
+        if not isinstance(comm, MPI.Comm):
+            raise TypeError(f"{name}: comm must be an MPI communicator, got "
+                            f"{type(comm).__name__}")
         sides = _side_names(sides, f"{name}: sides")
         pins = _side_names(pins, f"{name}: pins", allow_empty=True)
         if free_ends not in ("yarns", "fibres"):
@@ -115,6 +128,10 @@ class Sample:
         # the configuration everything is built around: the woven one
         configuration = None
         if woven is not None:
+            found = comm.bcast(os.path.isfile(woven) if comm.rank == 0 else None, root=0)
+            if not found:
+                raise FileNotFoundError(f"{name}: no woven state file {str(woven)!r} (write one "
+                                        f"with textile.save_state after a weaving run)")
             configuration = saved_configuration(woven, comm)
         self.model = Model(fibres, comm=comm)
         mesh = self.model.mesh

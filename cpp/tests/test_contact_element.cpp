@@ -26,8 +26,13 @@ TEST(RegularizedPenalty, ContinuousWithContinuousSlope)
     EXPECT_NEAR((law.reaction(g + h) - law.reaction(g - h)) / (2 * h), law.stiffness(g), 1e-3);
   }
   EXPECT_NEAR(law.reaction(-3e-4), 2.0e3 * (3e-4 - 0.5e-4), 1e-12); // linear part
-  for (double R : {1e-3, 0.05, 1.0}) // inverse law
-    EXPECT_NEAR(law.reaction(-law.penetration(R)), R, 1e-12 * R + 1e-15);
+  // the inverse law against the closed forms, not against reaction():
+  // k p^2 / (2 g_r) = R in the quadratic part (R < k g_r / 2 = 0.1), k (p -
+  // g_r / 2) = R beyond
+  EXPECT_NEAR(law.penetration(1e-3), std::sqrt(2 * 1e-4 * 1e-3 / 2.0e3), 1e-15);
+  EXPECT_NEAR(law.penetration(0.05), std::sqrt(2 * 1e-4 * 0.05 / 2.0e3), 1e-15);
+  EXPECT_NEAR(law.penetration(1.0), 1.0 / 2.0e3 + 0.5e-4, 1e-15);
+  EXPECT_NEAR(law.reaction(-5e-5), 2.0e3 * 5e-5 * 5e-5 / (2 * 1e-4), 1e-15); // quadratic part
   EXPECT_THROW(RegularizedPenalty(0.0, 1e-4), std::invalid_argument);
   EXPECT_THROW(RegularizedPenalty(1.0, -1.0), std::invalid_argument);
 }

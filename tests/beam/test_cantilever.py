@@ -21,9 +21,10 @@ def test_tip_deflection(num_elements):
     A, I, _, G = section(E, nu, R)
     ref = P * L ** 3 / (3 * E * I) + P * L / (G * A)
     tip = -model.centreline(fib)[-1, 2]
-    # 0.5% required; the quadratic element with 2 Gauss points is exact up
-    # to geometric nonlinearity (w/L ~ 2e-3): 1e-4 holds on 2 elements
-    assert tip == pytest.approx(ref, rel=1e-4)
+    # the quadratic element with 2 Gauss points is exact up to geometric
+    # nonlinearity (w/L ~ 2e-3): measured 3.2e-6 (2 elements) and 3.0e-6
+    # (8) below the linear answer; tolerance 3x
+    assert tip == pytest.approx(ref, rel=1e-5)
     assert model.reaction(fib, 0, "z")[0] == pytest.approx(P, rel=1e-9)  # equilibrium
     # regression: a nearly linear problem converges in few Newton iterations
     assert solver.history[-1].newton_iterations <= 4
@@ -47,8 +48,9 @@ def test_full_integration_locks_and_converges():
             errors[points, n] = abs(-model.centreline(fib)[-1, 2] / ref - 1)
     for n in (4, 8, 16):
         assert errors[2, n] < 1e-5  # no locking at any mesh (geometric nonlinearity ~3e-6)
-    # locking of the fully integrated element decays at order 2
-    assert errors[3, 4] > 1e-2
+    # locking of the fully integrated element decays at order 2: measured
+    # 1.54e-2 on 4 elements (README), 3.7e-3 on 8, 7.8e-4 on 16
+    assert errors[3, 4] == pytest.approx(1.54e-2, rel=0.05)
     for a, b in ((4, 8), (8, 16)):
         rate = np.log2(errors[3, a] / errors[3, b])
         assert rate > 1.8

@@ -29,17 +29,20 @@ def test_rollup_closes_the_ring(nu):
         theta = 2 * np.pi * t
         ref = np.array([L * np.sin(theta) / theta, L * (1 - np.cos(theta)) / theta, 0.0])
         tip = model.centreline(fib)[-1]
-        assert np.linalg.norm(tip - ref) < 5e-3 * L  # required 0.5% of L (measured ~1e-5)
+        # measured 2.0e-6 L (pi/2) and 1.1e-5 L (pi): the finite-strain
+        # section effects (kappa R = 0.006); tolerance 3.5x the larger
+        assert np.linalg.norm(tip - ref) < 4e-5 * L
     solver.solve(1.0)
     tip = model.centreline(fib)[-1]
-    assert np.linalg.norm(tip) < 1e-3 * L  # back at the clamp (measured ~3e-5 L)
+    assert np.linalg.norm(tip) < 1e-4 * L  # back at the clamp (measured 3.2e-5 L: 3x)
     # the ring is planar and round: every node at distance L/(2 pi) from the centre
     c = np.array([0.0, L / (2 * np.pi), 0.0])
     r = np.linalg.norm(model.centreline(fib) - c, axis=1)
-    assert np.allclose(r, L / (2 * np.pi), rtol=1e-3)
-    # Newton regression: 20 steps of 18 degrees; measured 9-13 iterations a step
+    assert np.allclose(r, L / (2 * np.pi), rtol=3e-4, atol=0)  # measured 9.1e-5: 3x
+    # Newton regression: 20 steps of 18 degrees; measured 5 iterations a
+    # step (MIP Newton), 1.5x allowed as the stability suite's guard does
     its = [h.newton_iterations for h in solver.history]
-    assert len(its) == 20 and max(its) <= 16
+    assert len(its) == 20 and max(its) <= 7
 
 
 def test_rollup_without_poisson_cure_is_too_stiff():
@@ -56,5 +59,5 @@ def test_rollup_without_poisson_cure_is_too_stiff():
     tip = model.centreline(fib)[-1]
     theta = np.pi / (1 - nu) * ((1 + nu) * (1 - 2 * nu))  # curvature reduced by 1.346
     ref = np.array([L * np.sin(theta) / theta, L * (1 - np.cos(theta)) / theta, 0.0])
-    assert np.linalg.norm(tip - ref) < 5e-3 * L
+    assert np.linalg.norm(tip - ref) < 2e-5 * L  # measured 4.0e-6 L: 5x
     assert tip[0] > 0.1 * L  # far from the cured answer (x = 0)

@@ -1,7 +1,8 @@
 """Every demo runs in the test suite (a quick variant), on one rank and
 under mpirun -n 2, as dolfinx runs its own demos: a demo cannot break
-unnoticed. Each demo checks its own answer against its reference and
-writes its outputs; here we check that it ran through and wrote them."""
+unnoticed. Each demo that prints an answer checks it against its reference
+and exits with status 1 otherwise; here we check that it ran through and
+wrote its outputs, and (controls) that the checks fail on a wrong answer."""
 import json
 import os
 import runpy
@@ -58,3 +59,28 @@ def test_demo_runs(name, args, outputs, tmp_path_factory):
         for f in [f for f in outputs if f.endswith("results.json")]:  # it solved something
             results = json.load(open(os.path.join(out, f)))
             assert results["steps"] and "failure" not in results["meta"]
+
+
+def run_demo(name, args, out):
+    argv = sys.argv
+    sys.argv = [name, "--output", str(out)] + args
+    try:
+        runpy.run_path(os.path.join(DEMOS, name), run_name="__main__")
+    finally:
+        sys.argv = argv
+
+
+@pytest.mark.parametrize("name,args", [
+    # 4 elements: the tip 2e-2 L off the exact arc (tolerance 1e-4 L)
+    ("demo_fibre_rollup.py", ["--elements", "4"]),
+    # linear tetrahedra lock: 4.2 times the quadratic ones' stiffness
+    ("demo_composite_bending.py", ["--fibres", "1", "--spacing", "6", "--steps", "1",
+                                   "--degree", "1"]),
+    ("demo_composite_twisting.py", ["--fibres", "1", "--spacing", "6", "--steps", "1",
+                                    "--degree", "1"]),
+])
+def test_demo_check_fails_on_a_wrong_answer(name, args, tmp_path):
+    """Controls: a demo run made wrong on purpose fails its own check."""
+    with pytest.raises(SystemExit) as failed:
+        run_demo(name, args, tmp_path)
+    assert failed.value.code == 1

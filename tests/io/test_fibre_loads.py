@@ -23,6 +23,8 @@ import textile
 from textile.fibre_loads import (FIGURES, element_loads, fibre_loads, gathered_element_fields,
                                  ranked_table)
 
+from tests.installed import import_installed
+
 QUIET = {"verbose": False}
 
 
@@ -158,9 +160,7 @@ def scene(comm, directory=None):
 
 
 def read_series(pvd):
-    vtk_xml = pytest.importorskip(
-        "vtkmodules.vtkIOXML",
-        reason="VTK's Python modules are not importable (Debian: python3-vtk9)")
+    vtk_xml = import_installed("vtkmodules.vtkIOXML", "python3-vtk9 or python3-paraview")
     from vtkmodules.util.numpy_support import vtk_to_numpy
     out = []
     for ds in ET.parse(pvd).getroot().iter("DataSet"):

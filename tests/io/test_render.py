@@ -16,6 +16,8 @@ from textile.io.render import (RenderingUnavailable, RenderingWarning, render_cr
                                render_fibres_png, sketch_fibres_png)
 from textile.io.sample_pictures import cut_planes, draw_sample_pictures, yarn_axes
 
+from tests.installed import needs
+
 R = 0.05
 
 
@@ -50,9 +52,8 @@ def vtk_can_draw() -> bool:
         return False
 
 
-needs_vtk = pytest.mark.skipif(not vtk_can_draw(),
-                               reason="VTK cannot draw here (python3-vtk9 and xvfb, from "
-                                      ".ci/install, are missing)")
+needs_vtk = needs(vtk_can_draw(), "VTK cannot draw here (python3-vtk9 or "
+                 "python3-paraview, and xvfb)")
 
 
 @needs_vtk

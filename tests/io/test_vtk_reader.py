@@ -17,10 +17,9 @@ import textile
 from textile.effects.fibre_contact import FibreContact
 from textile.io.sample_pictures import fabric_labels
 
-vtk_xml = pytest.importorskip(
-    "vtkmodules.vtkIOXML",
-    reason="VTK's Python modules are not importable (Debian: apt-get install python3-vtk9; "
-           ".ci/install does)")
+from tests.installed import import_installed
+
+vtk_xml = import_installed("vtkmodules.vtkIOXML", "python3-vtk9 or python3-paraview")
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
 R, L, S, DELTA = 1e-3, 0.1, 0.02, 2e-4

@@ -13,10 +13,9 @@ from textile.effects.elastic_block import ElasticBlock
 from textile.effects.fibre_matrix_tie import FibreMatrixTie
 from textile.matrix_mesh import gmsh_box
 
-vtk_xml = pytest.importorskip(
-    "vtkmodules.vtkIOXML",
-    reason="VTK's Python modules are not importable (Debian: apt-get install python3-vtk9; "
-           ".ci/install does)")
+from tests.installed import import_installed
+
+vtk_xml = import_installed("vtkmodules.vtkIOXML", "python3-vtk9 or python3-paraview")
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
 pytestmark = pytest.mark.mpi

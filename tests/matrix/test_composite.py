@@ -16,6 +16,7 @@ from mpi4py import MPI
 import textile
 from textile.composite import Composite
 from textile.fabric_measures import crossing_separation
+from textile.virtual_tests import plate_references
 
 from tests.woven_states import plain_weave, woven_once
 
@@ -91,13 +92,13 @@ def test_release_and_bending(woven):
     assert np.all(np.diff(moments) > 0) and moments[0] > 0
     slope = moments / angles
     assert slope.max() / slope.min() < 1.1
-    # the matrix plate bent cylindrically, E b h^3 / (12 (1 - nu^2)) theta / L
-    # (rigid side faces block the anticlastic curvature), plus the thin
-    # monofilaments' small share: measured 1.0014 to 1.0038 of it with the
-    # default quadratic matrix (linear tetrahedra lock: 4.6 times too stiff)
-    length, width, thickness = c.corners[1] - c.corners[0]
-    plate = MATRIX.young * width * thickness ** 3 / (12 * (1 - MATRIX.poisson ** 2)) / length
-    assert np.all((moments / (plate * angles) > 1.0) & (moments / (plate * angles) < 1.015))
+    # between the plate references (textile.virtual_tests.plate_references:
+    # matrix free to curl and fibres unbonded, matrix in plane strain and
+    # fibres bonded): measured 1.0014 to 1.0038 of the plate in [0.890,
+    # 1.033] (tests/virtual/test_composite_tests.py takes the fibres' share
+    # apart; linear tetrahedra lock, far above the upper estimate)
+    lower, upper = plate_references.bending_bracket(c)
+    assert np.all((lower * angles < moments) & (moments < upper * angles))
     # the two side bodies hold each other's force: nothing else loads the
     # sample once the free ends are let go (measured 1e-13 of the force)
     for _, left, right in curve:

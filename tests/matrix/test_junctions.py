@@ -218,7 +218,7 @@ def test_independent_of_junction_spacing_and_matrix_mesh():
     """Halving the junction spacing (4 stations an element instead of 2, or
     twice the fibre elements) changes the stiffness by 3.4e-5 and 3.9e-5
     (measured with section particles; 7.7e-5 and 9.2e-5 with the centre line
-    only): tolerance 5e-4. Halving the matrix element size (h = 0.25 ->
+    only): tolerance 1.5e-4, 4 times the larger. Halving the matrix element size (h = 0.25 ->
     0.125, fibre radius 0.05) changes it by 0.68% (measured; 0.78% with the
     centre line only): the matrix under
     a line load is log-singular, so its local compliance grows slowly as h
@@ -229,8 +229,8 @@ def test_independent_of_junction_spacing_and_matrix_mesh():
     half_spacing = composite_stiffness(4, (8, 4, 4))
     finer_fibres = composite_stiffness(2, (8, 4, 4), num_elements=16)
     finer_matrix = composite_stiffness(2, (16, 8, 8))
-    assert abs(half_spacing / base - 1) < 5e-4, half_spacing / base
-    assert abs(finer_fibres / base - 1) < 5e-4, finer_fibres / base
+    assert abs(half_spacing / base - 1) < 1.5e-4, half_spacing / base
+    assert abs(finer_fibres / base - 1) < 1.5e-4, finer_fibres / base
     assert abs(finer_matrix / base - 1) < 0.01, finer_matrix / base
 
 

@@ -145,3 +145,53 @@ def test_a_release_held_by_one_rank():
     serial, parallel = pushed_then_freed(MPI.COMM_SELF), pushed_then_freed(MPI.COMM_WORLD)
     assert np.abs(parallel - serial).max() < 1e-12 * np.abs(serial).max()
     assert serial[0, 1] > 1e-3 * L   # the force took the end further once released
+
+
+def bad_stages(model, force, pull):
+    """(stage arguments, error, message) of stages refused when made."""
+    from textile.effects.fibre_contact import FibreContact
+    contact = FibreContact()
+    return [
+        (dict(name="both", ramp={pull: 2e-4}, release=[pull]), ValueError,
+         "is both ramped and released"),
+        (dict(name="nan", ramp={force: float("nan")}), ValueError, "must be finite numbers"),
+        (dict(name="shape", ramp={force: [1.0, 2.0]}), ValueError, "one per component: 3"),
+        (dict(name="text", ramp={force: "up"}), ValueError, "must be finite numbers"),
+        (dict(name="release", release=pull), TypeError, "release must be a list of handles"),
+        (dict(name="release item", release=["pull"]), TypeError, "release items must be "
+                                                                "handles"),
+        (dict(name="", ramp={}), ValueError, "name must be a non-empty string"),
+        (dict(name="options", effects={contact: dict(mode="weaving", speed=2)}), ValueError,
+         r"unknown stage option\(s\) \['speed'\] of FibreContact; allowed: \['fibre_yarn', "
+         r"'mode', 'yarn_above'\]"),
+        (dict(name="no options", effects={model.beam: dict(stiff=True)}), ValueError,
+         r"unknown stage option\(s\) \['stiff'\] of .*; allowed: none"),
+        (dict(name="effect", effects={"contact": {}}), TypeError, "effects keys must be "
+                                                                  "effects"),
+        (dict(name="effect options", effects={contact: "weaving"}), TypeError,
+         "must be a dict"),
+        (dict(name="solver", solver=[("max_step", 0.1)]), TypeError, "solver must be a dict"),
+    ]
+
+
+def test_bad_stages_are_refused_when_made(tmp_path):
+    """Every bad stage definition is a named error when the Stage is made:
+    after a first stage it leaves the run as it was (nothing computed is
+    lost, nothing half applied), and the run goes on with a good stage."""
+    fib, model, force = cantilever()
+    pull = model.fix(fib, -1, "x", 0.0)
+    out = textile.Output(str(tmp_path), pictures=False)
+    solver = textile.Solver(model, dict(initial_step=0.5, max_step=0.5, verbose=False),
+                            output=out)
+    solver.run([textile.Stage("load")])
+    before = (len(solver.history), model.nodal_unknowns().copy(),
+              (tmp_path / "results.json").read_text())
+    for kwargs, error, message in bad_stages(model, force, pull):
+        with pytest.raises(error, match=message):
+            textile.Stage(**kwargs)
+    assert len(solver.history) == before[0]
+    assert np.array_equal(model.nodal_unknowns(), before[1])
+    assert (tmp_path / "results.json").read_text() == before[2]
+    solver.run_stage(textile.Stage("more", ramp={force: [0, 0, 2 * F]}, release=[pull]))
+    assert solver.history[-1].stage == "more"
+    assert model.reaction(fib, 0)[2] == pytest.approx(-2 * F, rel=1e-9)

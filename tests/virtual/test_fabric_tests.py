@@ -6,8 +6,8 @@ Physical checks: the side bodies' forces balance; the tension curve
 stiffens as the yarns lose their crimp and stays below the straight yarns'
 stiffness; crimp interchange in biaxial tension; the shear curve reversed
 is its mirror; the bending and twisting moments grow monotonically.
-Newton counts are guarded (+50% of the measured ones, as the stability
-suite does).
+Newton counts (the total and the largest step's) are guarded by the
+stability suite's guard (+50% of the committed ones).
 """
 import math
 
@@ -18,15 +18,17 @@ from mpi4py import MPI
 import textile
 from textile.virtual_tests import Bending, Shear, Tension, Twisting
 
+from tests.stability import guard
 from tests.woven_states import plain_weave, woven_once
 
 R = 0.1e-3
 FIBRE = textile.Material(5.0e9, 0.35)
 EA = FIBRE.young * math.pi * R ** 2
 QUIET = dict(verbose=False)
-#: force balance of the side bodies: the Newton tolerance's level (measured
-#: 1e-15 of the largest body force)
-BALANCE = 1e-6
+#: force balance of the side bodies, relative to the largest body force:
+#: what Newton leaves of the residual (rtol 1e-10 of the force scale);
+#: measured 1e-15
+BALANCE = 1e-10
 
 
 def fabric():
@@ -42,10 +44,6 @@ def woven(tmp_path_factory):
 def increments(result):
     x, y = result.curve.arrays()
     return x - x[0], y - y[0]
-
-
-def newton(result) -> int:
-    return int(result.counters["newton_iterations"])
 
 
 def test_uniaxial_tension(woven, tmp_path):
@@ -67,8 +65,8 @@ def test_uniaxial_tension(woven, tmp_path):
                  "results.json", "fibres.pvd"):
         assert (tmp_path / name).exists(), name
     assert "membrane stiffness (force per width per strain)" in result.figures
-    # 68 measured (16 a step and the settling: the contact loop settles friction)
-    assert newton(result) <= 1.5 * 68
+    # 16 a step and the settling: the contact loop settles friction
+    guard.newton_count("fabric virtual uniaxial tension", result)
 
 
 def test_biaxial_crimp_interchange(woven):
@@ -79,13 +77,16 @@ def test_biaxial_crimp_interchange(woven):
         result = Tension(fabric(), woven, 0.01, ratio=ratio, steps=2, comm=MPI.COMM_SELF).run()
         assert result.force_balance < BALANCE
         stiffness.append(result.figures["membrane stiffness (force per width per strain)"])
-    # measured 9.35e4 (ratio 0), 1.03e5 (0.5), 1.12e5 (1) N/m
+    # measured 9.34e4 (ratio 0), 1.04e5 (0.5), 1.14e5 (1) N/m (benchmarks/
+    # README.md: a measurement; the small-strain uniaxial stiffness is
+    # tested against a model in test_fabric_references.py)
     assert stiffness[0] < stiffness[1] < stiffness[2]
 
 
 def test_shear_reversed_is_the_mirror_curve(woven):
     """The paper's shear one way and the other: on a balanced plain weave
-    the force increments are opposite within 2% (measured 3.5e-4)."""
+    the force increments are opposite: measured 1.4e-4 of the largest
+    (the two runs' Newton and contact-loop tolerances); tolerance 5e-4."""
     L = fabric().spacing[0]
     plus = Shear(fabric(), woven, 0.2 * L, steps=5, comm=MPI.COMM_SELF).run()
     minus = Shear(fabric(), woven, -0.2 * L, steps=5, comm=MPI.COMM_SELF).run()
@@ -93,11 +94,10 @@ def test_shear_reversed_is_the_mirror_curve(woven):
     xm, ym = increments(minus)
     assert np.allclose(xp, -xm, rtol=0, atol=1e-12)
     assert np.all(np.diff(yp) > 0)
-    assert np.abs(yp[1:] + ym[1:]).max() < 0.02 * np.abs(yp[1:]).max()
+    assert np.abs(yp[1:] + ym[1:]).max() < 5e-4 * np.abs(yp[1:]).max()
     assert max(plus.force_balance, minus.force_balance) < BALANCE
     assert plus.figures["shear stiffness (force per width per radian)"] > 0
-    # 101 measured (12 to 30 a step)
-    assert newton(plus) <= 1.5 * 101
+    guard.newton_count("fabric virtual shear", plus)
 
 
 def test_bending_moment_grows_with_the_angle(woven):
@@ -107,8 +107,8 @@ def test_bending_moment_grows_with_the_angle(woven):
     x, y = increments(result)
     assert np.all(np.diff(x) > 0) and np.all(np.diff(y) > 0)
     assert result.force_balance < BALANCE
-    # 205 measured (43 to 62 a step: contacts slide as the crossings turn)
-    assert newton(result) <= 1.5 * 205
+    # contacts slide as the crossings turn: many iterations a step
+    guard.newton_count("fabric virtual bending", result)
 
 
 def test_twisting_moment_grows_with_the_angle(woven):
@@ -118,8 +118,7 @@ def test_twisting_moment_grows_with_the_angle(woven):
     assert np.all(np.diff(y) > 0)
     assert result.force_balance < BALANCE
     assert result.figures["stiffness (moment per unit curvature)"] > 0
-    # 84 measured (20 a step)
-    assert newton(result) <= 1.5 * 84
+    guard.newton_count("fabric virtual twisting", result)
 
 
 def test_bad_input(woven):

@@ -72,8 +72,8 @@ Locking (measured 2026-12-01, tests/virtual/test_picture_frame.py): 2 x 2
 plain weaves of flat 2-fibre yarns (R = 0.1 mm, E = 5 GPa, friction 0.2,
 yarn pins) whose yarn ends run 1.5 spacings beyond the crossings lock: the
 tangent stiffness rises tenfold above its first interval's at 57.5-57.7
-deg 2.5 widths apart (pin-joint bound 66.4) and at 60.3 deg 2.75 widths
-apart (bound 68.7), each within 0.1-0.3 deg of the first contact between
+deg 2.5 widths apart (pin-joint bound 66.4) and at 60.0-60.3 deg 2.75
+widths apart (bound 68.7), each within 0.02-0.5 deg of the first contact between
 parallel yarns ("lateral yarn contact from [deg]"), and climbs to 30-50
 times within 3 deg. 3 widths apart no yarns touch up to 60 deg (bound
 70.5), and 2 and 2.25 widths apart the solve stops (45 and 50 deg) before
