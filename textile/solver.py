@@ -839,9 +839,8 @@ class Solver:
         """Where the run stands, for a saved state: the stage (name, index),
         the run's time, the steps converged so far, the step size the next
         step takes (0 once the stage is complete), the load factor of the
-        secant predictor's earlier state (-1: none) and the stability
-        counters (negative eigenvalues at the last step, round-off pivots
-        known to be zero eigenvalues); stage_started is 0 before any solve
+        secant predictor's earlier state (-1: none) and the negative
+        eigenvalues at the last step; stage_started is 0 before any solve
         (the next stage starts from the saved state)."""
         m = self.model
         within = self._stage_started and m.load_factor < 1.0 - 1e-14
@@ -852,7 +851,7 @@ class Solver:
                     next_step=float(self._next_step or 0.0) if within else 0.0,
                     previous_load_factor=float(self._previous[0])
                     if within and self._previous is not None else -1.0,
-                    negative_eigenvalues=self._negative, spurious_pivots=self._spurious)
+                    negative_eigenvalues=self._negative)
 
     def previous_state(self) -> PETSc.Vec | None:
         """The secant predictor's earlier state (see position), or None."""
@@ -879,7 +878,6 @@ class Solver:
         self._stage_started = bool(position.get("stage_started", True))
         self._steps_before = int(position.get("steps", 0))
         self._negative = int(position.get("negative_eigenvalues", 0))
-        self._spurious = int(position.get("spurious_pivots", 0))
         self._previous = None
         self._resuming = None
         if self._stage_started and m.load_factor < 1.0 - 1e-14:

@@ -10,8 +10,7 @@ the number of MPI ranks that wrote or read it (version 2):
     ``num_fibres``, ``num_nodes``, ``checksum`` (SHA-256 of everything else:
     a corrupt file is refused); with a solver: ``stage``, ``stage_index``,
     ``stage_started``, ``time``, ``steps``, ``next_step``,
-    ``previous_load_factor``, ``negative_eigenvalues``, ``spurious_pivots``
-    (:meth:`Solver.position`).
+    ``previous_load_factor``, ``negative_eigenvalues`` (:meth:`Solver.position`).
 ``/fibres/reference`` (nodes, 9), ``/fibres/unknowns`` (nodes, 9)
     Reference [X0, G1, G2] and current displacements of every fibre node,
     in the global node numbering (fibre after fibre); ``/fibres/previous``
@@ -523,7 +522,7 @@ def load_state(model, path: str, solver=None) -> dict:
             previous = _set_fields(model, values, "previous", model.x.duplicate())
         position = {k: attrs[k] for k in ("stage", "stage_index", "stage_started", "steps",
                                           "next_step", "previous_load_factor",
-                                          "negative_eigenvalues", "spurious_pivots")
+                                          "negative_eigenvalues")
                     if k in attrs}
         solver.resume(position, previous, following, matrix_changed)
     elif solver is not None and matrix_changed:
