@@ -15,7 +15,12 @@ Packings. The lattice packings place neighbouring fibres ``pitch`` =
   each holding as many evenly spaced fibres as fit on it without overlap
   (:func:`round_rings`). Full rings of 1 + 6 + 12 + 18 (7, 19, 37 fibres),
   and 28 = 3 + 9 + 16 (outer radius (2/sqrt(3) + 5) R = 6.155 R at
-  clearance 0, every ring full; the hexagonal 28 is 6.292 R);
+  clearance 0, every ring full; the hexagonal 28 is 6.292 R). Rings touch
+  where their fibres line up radially (on the +d axis, and wherever the
+  rings' angles coincide); round a ring the fibres spread over the whole
+  circle, so ring neighbours are 2 r sin(pi/n) - pitch apart (28: 0.158 R
+  on the ring of 9, 0.011 R on the ring of 16): the core and the lined-up
+  fibres touch, the others nearly (a hexagonal bundle touches everywhere);
 - ``"layers n"``: a flat yarn of n staggered rows of the hexagonal lattice,
   their lengths differing by at most one fibre (e.g. ``"layers 2"`` for 28
   fibres: 2 rows of 14);

@@ -19,8 +19,10 @@ def centre_distances(p):
 
 
 def same_set(p, q):
-    """The point sets p and q are equal (to round-off)."""
-    return np.allclose(np.sort(np.round(p / R, 9), axis=0), np.sort(np.round(q / R, 9), axis=0))
+    """The point sets p and q (fibres 2 R apart or more) are equal to round-off:
+    every point of each has one of the other within 1e-12 R."""
+    d = np.hypot(*(p[:, None] - q[None]).transpose(2, 0, 1))
+    return len(p) == len(q) and max(d.min(axis=0).max(), d.min(axis=1).max()) < 1e-12 * R
 
 
 # -- packings -----------------------------------------------------------------------------
@@ -80,6 +82,16 @@ def test_round_packing_rings():
         assert np.diff(angles) == pytest.approx(2 * math.pi / n, rel=1e-12)
     assert y.diameter / 2 == pytest.approx((2 / math.sqrt(3) + 5) * R, rel=1e-12)
     assert same_set(p, p * [1, -1])  # symmetric about the fabric plane
+    # touching: the core (3 pairs), the core and the 9-ring at 0, 120, 240 deg (3), the
+    # 9- and 16-rings at 0 deg (1); ring neighbours 0.158 R and 0.011 R apart
+    d = centre_distances(p)
+    assert np.count_nonzero(np.isclose(d, 2 * R, rtol=1e-12)) // 2 == 7
+    for n, r in rings[1:]:
+        gap = 2 * R * (2 * r * math.sin(math.pi / n) - 1)
+        on_ring = np.isclose(radius, 2 * R * r, rtol=1e-12)
+        assert d[np.ix_(on_ring, on_ring)].min() - 2 * R == pytest.approx(gap, rel=1e-9)
+    gaps = [2 * (2 * r * math.sin(math.pi / n) - 1) for n, r in rings[1:]]  # in R
+    assert [round(g, 3) for g in gaps] == [0.158, 0.011]
     for count, counts in ((7, [1, 6]), (19, [1, 6, 12]), (37, [1, 6, 12, 18])):
         assert [n for n, _ in round_rings(count)] == counts
     # a count that does not fill its last ring: 40 = 2 + 9 + 15 + 14 of 21, spread evenly
@@ -306,8 +318,8 @@ def test_twisted_yarn_needs_elements_enough_per_turn():
     # turn in N are 2.1 R cos(pi/N) apart (nodes on the helices)
     for n, overlap in ((10, True), (11, False)):
         s = np.arange(2) * p / n
-        ends = [np.column_stack([s, r * np.cos(2 * math.pi * s / p), r * np.sin(2 * math.pi * s / p)])
-                for r in (-1.05 * R, 1.05 * R)]
+        turn = 2 * math.pi * s / p
+        ends = [np.column_stack([s, r * np.cos(turn), r * np.sin(turn)]) for r in (-1.05 * R, 1.05 * R)]
         mid = [e.mean(axis=0) for e in ends]
         assert (np.linalg.norm(mid[1] - mid[0]) < 2 * R) == overlap
 
