@@ -319,7 +319,8 @@ def test_twisted_yarn_needs_elements_enough_per_turn():
     for n, overlap in ((10, True), (11, False)):
         s = np.arange(2) * p / n
         turn = 2 * math.pi * s / p
-        ends = [np.column_stack([s, r * np.cos(turn), r * np.sin(turn)]) for r in (-1.05 * R, 1.05 * R)]
+        ends = [np.column_stack([s, r * np.cos(turn), r * np.sin(turn)])
+                for r in (-1.05 * R, 1.05 * R)]
         mid = [e.mean(axis=0) for e in ends]
         assert (np.linalg.norm(mid[1] - mid[0]) < 2 * R) == overlap
 
