@@ -14,7 +14,35 @@ the weaving computation pushes them over and under each other.
 
 Numbering: fibres yarn after yarn, warps first (yarn k < n_warp is warp k,
 yarn n_warp + i is weft i), fibres of a yarn in the order of its packing.
-Section vectors: G1 across the yarn in the fabric plane, G2 = T x G1 = +z.
+Section vectors: G1 across the yarn in the fabric plane, G2 = T x G1 = +z
+(transported along a twisted fibre).
+
+Neighbouring yarns of one direction must not overlap: a yarn's width across
+the fabric (a twisted yarn's diameter, which its turning section sweeps)
+may reach the spacing (yarns touching side by side) but not exceed it.
+
+Twisted yarns. A yarn of length L cut into n elements (n = elements_per_
+crossing L / p rounded, p the spacing of the yarns it crosses) gets N =
+n / (|twist| L), about elements_per_crossing / (|twist| p), elements per
+turn (:meth:`Fabric.elements_per_turn`); each element turns the section by
+2 pi / N. Its nodes lie on the helices; between them an element of order q
+interpolates every fibre of the yarn with the same shape functions, so at
+each point of the element the interpolated section is the yarn's section
+turned and scaled by |P(x)|, P the interpolant of the unit circle. Over an
+element turning by 2 phi (phi = pi / N), with x in [-1, 1]:
+
+    q = 1: P = cos(phi) + i x sin(phi),          min |P| = cos(phi)            (x = 0),
+    q = 2: P = 1 + i x sin(phi) - x^2 (1 - cos(phi)),
+           |P|^2 = 1 - (1 - cos(phi))^2 x^2 (1 - x^2),
+           min |P| = sqrt(1 - (1 - cos(phi))^2 / 4)                           (x^2 = 1/2).
+
+The fabric refuses a twisted yarn whose fibres come closer than 2 R once
+its section is shrunk by that minimum (the helix distances of
+:func:`~textile.yarn.helix_distances`: exact in every section, an estimate
+between them) and one whose node interval turns by pi or more (the nodes
+would describe the opposite hand, or no twist at all). E.g. 10 elements a
+turn shrink the section to cos(18 deg) = 0.9511 (order 1: radial
+neighbours need a clearance of 0.103 or more) or to 0.9997 (order 2).
 """
 from __future__ import annotations
 
@@ -25,7 +53,7 @@ import numpy as np
 
 from .fibre import Fibre
 from .weave_pattern import WeavePattern
-from .yarn import Yarn
+from .yarn import ROUND_OFF, Yarn, helix_distances
 
 
 def _positive(value, name: str) -> float:
@@ -33,6 +61,16 @@ def _positive(value, name: str) -> float:
             or value <= 0:
         raise ValueError(f"Fabric: {name} must be positive and finite, got {value!r}")
     return float(value)
+
+
+def interpolated_section_scale(order: int, turn) -> np.ndarray:
+    """Smallest scale of a yarn's section interpolated by an element of
+    ``order`` (1 or 2) whose nodes turn by ``turn`` (radians) from its first
+    to its last (module docstring)."""
+    phi = 0.5 * np.asarray(turn, dtype=float)
+    if order == 1:
+        return np.cos(phi)
+    return np.sqrt(1 - 0.25 * (1 - np.cos(phi)) ** 2)
 
 
 class Fabric:
@@ -56,7 +94,8 @@ class Fabric:
         Yarn length beyond the last crossing (default: half the spacing).
     elements_per_crossing:
         Fibre elements between two neighbouring crossings (and over a free
-        length of half a spacing).
+        length of half a spacing), an integer >= 1; a twisted yarn needs
+        enough per turn (module docstring).
     order:
         Element order of the fibres (1 or 2).
     """
@@ -80,8 +119,11 @@ class Fabric:
             raise ValueError(f"Fabric: spacing must be a number or a pair, got {spacing!r}") from e
         self.spacing = (_positive(p_warp, "warp spacing"), _positive(p_weft, "weft spacing"))
         for name, y, p in (("warp", warp, self.spacing[0]), ("weft", weft, self.spacing[1])):
-            if y.width >= p:
-                raise ValueError(f"Fabric: {name} yarns are {y.width:.4g} wide ({y.count} fibres of "
+            across = y.diameter if y.twist else y.width
+            if across > p * (1 + ROUND_OFF):
+                what = (f"sweep a diameter of {across:.4g} as they turn" if y.twist else
+                        f"are {across:.4g} wide")
+                raise ValueError(f"Fabric: {name} yarns {what} ({y.count} fibres of "
                                  f"radius {y.radius:.4g}) but only {p:.4g} apart: neighbouring "
                                  f"{name} yarns would overlap (larger spacing, fewer or thinner "
                                  f"fibres)")
@@ -89,6 +131,10 @@ class Fabric:
                 elements_per_crossing, numbers.Integral) or elements_per_crossing < 1:
             raise ValueError(f"Fabric: elements_per_crossing must be a positive integer, got "
                              f"{elements_per_crossing!r}")
+        if isinstance(order, bool) or not isinstance(order, numbers.Integral) \
+                or order not in (1, 2):
+            raise ValueError(f"Fabric: order (of the fibres' elements) must be 1 or 2, got "
+                             f"{order!r}")
         self.warp, self.weft = warp, weft
         self.num_warp, self.num_weft = int(num_warp), int(num_weft)
         self.pattern = WeavePattern.of(pattern)
@@ -96,8 +142,10 @@ class Fabric:
         self.free_length = 0.5 * min(self.spacing) if free_length is None \
             else _positive(free_length, "free_length")
         self.elements_per_crossing = int(elements_per_crossing)
-        self.element_order = order
+        self.element_order = int(order)
         self._fibres = None
+        for k in sorted({0, self.num_warp}):
+            self._check_twist_resolved(k)
 
     # -- yarns -------------------------------------------------------------------
     @property
@@ -140,6 +188,47 @@ class Fabric:
         a, b = self.yarn_axis(k)
         p = self.spacing[1] if k < self.num_warp else self.spacing[0]
         return max(1, int(round(self.elements_per_crossing * np.linalg.norm(b - a) / p)))
+
+    def elements_per_turn(self, k: int) -> float:
+        """Elements of yarn k per turn of its twist (inf if untwisted)."""
+        yarn = self.yarn(k)
+        if yarn.twist == 0:
+            return math.inf
+        a, b = self.yarn_axis(k)
+        return self._num_elements(k) / (abs(yarn.twist) * float(np.linalg.norm(b - a)))
+
+    def _check_twist_resolved(self, k: int):
+        """Refuse a twist yarn k's elements cannot follow (module docstring)."""
+        yarn, name = self.yarn(k), self.yarn_direction(k)
+        if yarn.twist == 0:
+            return
+        q, per_turn = self.element_order, self.elements_per_turn(k)
+        if q * per_turn <= 2:
+            raise ValueError(f"Fabric: {name} yarns twisted {yarn.twist:.4g} turns per unit length "
+                             f"get {per_turn:.3g} elements of order {q} per turn: a node interval "
+                             f"turns by pi or more and cannot describe the helix (more "
+                             f"elements_per_crossing)")
+        scale = float(interpolated_section_scale(q, 2 * math.pi / per_turn))
+        limit = 2 * yarn.radius * (1 - ROUND_OFF)
+
+        def closest(s):
+            return helix_distances(s * yarn.offsets, yarn.twist).min()
+
+        d = closest(scale)
+        if d >= limit:
+            return
+        lo, hi = scale, 1.0  # the distances grow with the scale: bisect for the least
+        for _ in range(40):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (lo, mid) if closest(mid) >= limit else (mid, hi)
+        # the elements per turn whose interpolated section scale reaches hi
+        phi = math.acos(hi) if q == 1 else math.acos(max(-1.0, 1 - 2 * math.sqrt(1 - hi * hi)))
+        need = (f"at least {math.pi / phi:.3g} elements per turn" if phi > 0 else
+                "more clearance (its helices touch: no element follows them without overlap)")
+        raise ValueError(f"Fabric: {name} yarns twisted {yarn.twist:.4g} turns per unit length "
+                         f"get {per_turn:.3g} elements of order {q} per turn: interpolated between "
+                         f"nodes their section shrinks to {scale:.6f} and fibres come {d:.4g} "
+                         f"apart, less than a diameter {2 * yarn.radius:.4g}; this needs {need}")
 
     def fibres(self) -> list[Fibre]:
         """The fibres of the starting state, yarn after yarn (built once)."""
