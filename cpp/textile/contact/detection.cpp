@@ -59,8 +59,15 @@ ContactElementState restore_element(const Centrelines& c, const SavedElement& sa
                        .crossing = saved.crossing, .wrap = saved.wrap,
                        .length = saved.length};
   ContactElementState e = make_element(c, p, saved.zone, saved.normal, saved.penalty, g_r,
-                                       friction, Eigen::Vector3d::Zero(), q);
+                                       friction, Eigen::Vector3d::Zero(), q, saved.gap_kind);
   e.stick = saved.stick;
+  // an element kept over passes within a step (history_transfer.h, persist)
+  // saw the geometry of an earlier pass
+  if (e.motion.kind != GapKind::held and saved.tangent_i.squaredNorm() > 0)
+  {
+    e.motion.tangent_i = saved.tangent_i;
+    e.motion.tangent_j = saved.tangent_j;
+  }
   return e;
 }
 
@@ -80,11 +87,40 @@ std::vector<ZoneMark> zone_marks(const ContactSet& set)
   return out;
 }
 
-ContactElementState make_element(const Centrelines& c, const ContactPoint& p, int zone,
+namespace
+{
+/// The patch of fibre f a side is evaluated on (particle.h): the element
+/// holding abscissa s, and with `two` its neighbour across the nearer
+/// interior node, smoothed over the window its kink there allows.
+void set_patch(const Centrelines& c, int f, double s, bool two, double g_r, Particle& p,
+               std::array<std::int64_t, max_patch_nodes>& nodes)
+{
+  std::array<std::int64_t, 3> element;
+  element_of(c, f, s, element);
+  const int node = static_cast<int>(std::lround(s));
+  nodes.fill(-1);
+  if (two and node > 0 and node < c.num_elements(f))
+  {
+    p.patch_elements = 2;
+    p.patch_position = element[0] == c.fibre_offsets[f] + std::int64_t(c.order) * node ? 1 : 0;
+    p.window = patch_window((c.tangent(f, node) - c.tangent_left(f, node)).norm(), g_r);
+    for (int a = 0; a <= 2 * c.order; ++a)
+      nodes[a] = c.fibre_offsets[f] + std::int64_t(c.order) * (node - 1) + a;
+    return;
+  }
+  p.patch_elements = 1;
+  p.patch_position = 0;
+  std::copy(element.begin(), element.begin() + c.order + 1, nodes.begin());
+}
+} // namespace
+
+ContactElementState make_element(const Centrelines& c, const ContactPoint& point, int zone,
                                  const Eigen::Vector3d& normal, double penalty, double g_r,
                                  const RegularizedCoulomb& friction,
-                                 const Eigen::Vector3d& elastic_slip, std::span<const double> q)
+                                 const Eigen::Vector3d& elastic_slip, std::span<const double> q,
+                                 GapKind gap_kind)
 {
+  const ContactPoint& p = point;
   ContactElementState e;
   e.fibre_i = p.fibre_i;
   e.fibre_j = p.fibre_j;
@@ -95,22 +131,34 @@ ContactElementState make_element(const Centrelines& c, const ContactPoint& p, in
   e.wrap = p.wrap;
   e.length = p.length;
   const int nn = c.order + 1;
-  e.particle_i = {nn, element_of(c, p.fibre_i, p.s_i, e.nodes_i), p.xi1_i, p.xi2_i,
+  std::array<std::int64_t, 3> element_nodes;
+  e.particle_i = {nn, element_of(c, p.fibre_i, p.s_i, element_nodes), p.xi1_i, p.xi2_i,
                   c.radius[p.fibre_i]};
-  e.particle_j = {nn, element_of(c, p.fibre_j, p.s_j, e.nodes_j), p.xi1_j, p.xi2_j,
+  e.particle_j = {nn, element_of(c, p.fibre_j, p.s_j, element_nodes), p.xi1_j, p.xi2_j,
                   c.radius[p.fibre_j]};
+  // a crossing's point moves within Newton: on the element and its
+  // neighbour across the nearer node (particle.h)
+  set_patch(c, p.fibre_i, p.s_i, gap_kind == GapKind::facing, g_r, e.particle_i, e.nodes_i);
+  set_patch(c, p.fibre_j, p.s_j, gap_kind == GapKind::facing, g_r, e.particle_j, e.nodes_j);
   e.normal = normal;
+  e.motion.kind = gap_kind;
+  if (gap_kind != GapKind::held)
+  {
+    // dx0/dxi: the blended direction, the element's length per xi
+    e.motion.tangent_i = 0.5 * c.tangent(p.fibre_i, p.s_i).norm() * blended_tangent(c, p.fibre_i, p.s_i);
+    e.motion.tangent_j = 0.5 * c.tangent(p.fibre_j, p.s_j).norm() * blended_tangent(c, p.fibre_j, p.s_j);
+  }
   e.penalty = penalty;
   e.regularization = g_r;
   e.friction = friction;
   // the stick point that reproduces the carried elastic slip
   std::vector<double> xi, xj;
-  for (int a = 0; a < nn; ++a)
+  for (int a = 0; a < e.particle_i.patch_nodes(); ++a)
     for (int k = 0; k < 9; ++k)
-    {
       xi.push_back(q[9 * e.nodes_i[a] + k]);
+  for (int a = 0; a < e.particle_j.patch_nodes(); ++a)
+    for (int k = 0; k < 9; ++k)
       xj.push_back(q[9 * e.nodes_j[a] + k]);
-    }
   const Eigen::Vector3d delta = particle_position(e.particle_i, xi)
                                 - particle_position(e.particle_j, xj);
   const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - normal * normal.transpose();

@@ -81,6 +81,9 @@ struct SavedElement
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   double length = 0, penalty = 0;
   Eigen::Vector3d stick = Eigen::Vector3d::Zero();
+  GapKind gap_kind = GapKind::held; ///< gap_function.h
+  /// the tangents its pass saw (GapMotion); zero: from the geometry at q
+  Eigen::Vector3d tangent_i = Eigen::Vector3d::Zero(), tangent_j = Eigen::Vector3d::Zero();
 };
 
 ContactElementState restore_element(const Centrelines& c, const SavedElement& saved, double g_r,
@@ -94,9 +97,13 @@ ContactElementState restore_element(const Centrelines& c, const SavedElement& sa
 /// @param friction     Coulomb law (mu = 0: none)
 /// @param elastic_slip carried tangential elastic slip (zero for a new element)
 /// @param q            current [x0, g1, g2] of all nodes (9 per node)
+/// @param gap_kind     how the gap moves within Newton (gap_function.h); a
+///                     following one measures in the plane orthogonal to the
+///                     mean of the fibres' tangents at the particles
 ContactElementState make_element(const Centrelines& c, const ContactPoint& p, int zone,
                                  const Eigen::Vector3d& normal, double penalty, double g_r,
                                  const RegularizedCoulomb& friction,
-                                 const Eigen::Vector3d& elastic_slip, std::span<const double> q);
+                                 const Eigen::Vector3d& elastic_slip, std::span<const double> q,
+                                 GapKind gap_kind = GapKind::held);
 
 } // namespace textile::contact

@@ -48,6 +48,14 @@ struct ZoneInheritance
                                         ///< kind (crossing vs line contact)
 };
 
+/// How far (|s_i - s_i'| + |s_j - s_j'|, element lengths) a line contact
+/// found again may be from its predecessor for that one to be kept within
+/// a step (ElementParameters::persist): ten times the swing of a stacked
+/// yarn's placements (tests/contact/test_stacked_fibres.py), a twentieth
+/// of what a fibre sliding over an arc moves in a step
+/// (tests/contact/test_frictionless_drag.py).
+inline constexpr double persist_drift = 0.01;
+
 /// Parameters of the elements a pass makes.
 struct ElementParameters
 {
@@ -67,6 +75,19 @@ struct ElementParameters
   /// way (vertical_crossing.h): woven fibres are bent around each other.
   /// nullptr: closest points, as detection found them.
   const WeavingOrder* woven = nullptr;
+  /// Within a load step (the passes after its first): a line contact found
+  /// again within persist_drift of where the last pass had one keeps that
+  /// element, particles, plane and normal, only its zone renumbered. Its
+  /// points already slide within Newton (gap_function.h, following);
+  /// placed anew, they move with the zone's ends by a thousandth of an
+  /// element from pass to pass, over a penetration that varies along the
+  /// line, and the contact forces of a stacked yarn swing by a percent
+  /// between two places for ever. The first pass of a step places every
+  /// element from the geometry again, and so does any pass for an element
+  /// that moved further (a fibre sliding over another: kept in place, the
+  /// elements' planes lag behind and drag it, 1e-3 of its tension instead
+  /// of 2e-4, tests/contact/test_frictionless_drag.py).
+  bool persist = false;
 };
 
 /// The contact set of detection pass d at state q (all nodes, 9 unknowns
