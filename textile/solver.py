@@ -779,10 +779,11 @@ class Solver:
             self.run_stage(stage)
         return self.history
 
-    def run_stage(self, stage: Stage) -> list[StepRecord]:
+    def run_stage(self, stage: Stage, t_end: float = 1.0) -> list[StepRecord]:
         """Start ``stage`` where the current one ended and solve it to its
-        end. The current stage must be complete (load factor 1), unless
-        nothing has been solved yet."""
+        load factor ``t_end`` (default 1, its end; :meth:`solve` goes on
+        from there, with the solver's own options). The current stage must
+        be complete (load factor 1), unless nothing has been solved yet."""
         if not isinstance(stage, Stage):
             raise TypeError(f"expected a textile.Stage, got {type(stage).__name__}")
         m = self.model
@@ -807,7 +808,7 @@ class Solver:
         self._previous = None  # no secant predictor across stages
         self._log(f"stage {self._stage_index}: {stage.name}")
         try:
-            return self.solve(1.0)
+            return self.solve(t_end)
         finally:
             self.options = self._base_options
 

@@ -166,7 +166,7 @@ void declare_contact(py::module_& m)
       [](const carray<double>& q, const carray<std::int64_t>& first_node, int order,
          const carray<double>& radius, double delta_factor, double self_exclusion, double spacing,
          double parallel_angle, const py::object& held, const WeavingOrder* weaving,
-         const carray<double>& zones)
+         const carray<double>& zones, bool keep_kinds)
       {
         Geometry geo(q, first_node, order, radius);
         const SectionVectors g{geo.g};
@@ -183,7 +183,7 @@ void declare_contact(py::module_& m)
                       static_cast<ZoneKind>(kind)};
         }
         Detection d = detect(geo.lines, g, delta_factor, self_exclusion, spacing, parallel_angle,
-                             weaving, marks);
+                             weaving, marks, keep_kinds);
         if (!held.is_none())
           d.held = add_held_contacts(d, geo.lines, g, held_from_arrays(held.cast<py::dict>()));
         return d;
@@ -191,14 +191,15 @@ void declare_contact(py::module_& m)
       py::arg("q"), py::arg("first_node"), py::arg("order"), py::arg("radius"),
       py::arg("delta_factor"), py::arg("self_exclusion"), py::arg("spacing"),
       py::arg("parallel_angle"), py::arg("held") = py::none(), py::arg("weaving") = nullptr,
-      py::arg("zones") = carray<double>(),
+      py::arg("zones") = carray<double>(), py::arg("keep_kinds") = false,
       "One detection pass on the current nodal unknowns q (nodes x 9): a Detection. `held`: "
       "contacts of the last pass not to lose (ContactSet.contacts_to_hold, gathered from "
       "every rank), kept as zones of their own where detection finds none. `weaving`: the "
       "WeavingOrder of the weaving mode (its ordered pairs keep point crossings). `zones`: "
       "(n, 5) fibre_i, fibre_j, s_i, s_j, kind (0 crossing, 1 wrap, 2 line contact) of the "
       "last pass's zones, gathered from every rank (ContactSet.zone_marks): the hysteresis of "
-      "the wrap and crossing criteria.");
+      "the wrap and crossing criteria. `keep_kinds`: the passes within a step keep each "
+      "marked zone's kind outright.");
 
   py::class_<WeavingOrder>(m, "WeavingOrder",
                            "Crossing order of the weaving stage: fibre -> yarn, and "
@@ -453,6 +454,9 @@ void declare_contact(py::module_& m)
              put("wrap", [](const Element& e) { return e.wrap; });
              put("gap_kind", [](const Element& e) { return static_cast<int>(e.motion.kind); });
              put("tangent_i", [](const Element& e) { return e.motion.tangent_i; });
+             // patch coordinates (particle.h) of the points last measured
+             put("measured_xi_i", [](const Element& e) { return e.result.gap_xi[0]; });
+             put("measured_xi_j", [](const Element& e) { return e.result.gap_xi[1]; });
              put("tangent_j", [](const Element& e) { return e.motion.tangent_j; });
 
              put("xi1_i", [](const Element& e) { return e.particle_i.xi1; });

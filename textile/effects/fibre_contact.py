@@ -294,13 +294,14 @@ class FibreContact(Effect):
 
     # -- detection and history -----------------------------------------------
     def _detect(self, q: np.ndarray, held: dict | None = None,
-                zones: np.ndarray | None = None):
+                zones: np.ndarray | None = None, keep_kinds: bool = False):
         mesh = self.model.mesh
         return _cpp.detect_contacts(q, mesh.first_node, mesh.order, self.radius,
                                     self.options.search_factor, self.self_exclusion,
                                     self.spacing, math.radians(self.options.parallel_angle),
                                     held, self._order if self.mode == "weaving" else None,
-                                    np.zeros((0, 5)) if zones is None else zones)
+                                    np.zeros((0, 5)) if zones is None else zones,
+                                    keep_kinds)
 
     def _contacts_to_hold(self, q: np.ndarray) -> dict:
         """The closed elements of every rank (at the set's last evaluation)
@@ -330,12 +331,13 @@ class FibreContact(Effect):
     def _rebuild(self, q: np.ndarray, reset_normals: bool = False, persist: bool = False) -> bool:
         """Detect, carry history, set normals and zone penalties; True if
         the contact forces at q changed beyond update_tolerance. ``persist``
-        (the passes within a step): line contacts found again keep their
-        elements (ElementParameters::persist in history_transfer.h)."""
+        (the passes within a step): zones keep their kind (detection.h,
+        keep_kinds) and elements found again keep their parameters
+        (ElementParameters::persist in history_transfer.h)."""
         o, mesh, comm = self.options, self.model.mesh, self.model.comm
         old = self.set
         old.evaluate(q)  # elastic slips, zone forces and held contacts from this state
-        found = self._detect(q, self._contacts_to_hold(q), self._zone_marks())
+        found = self._detect(q, self._contacts_to_hold(q), self._zone_marks(), persist)
         self.held_contacts += found.held
         before = old.nodal_forces(q)
         new, inherited = old.next(found, q, mesh.first_node, mesh.order, self.radius, self.k0,

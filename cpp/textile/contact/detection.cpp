@@ -8,7 +8,8 @@ namespace textile::contact
 {
 Detection detect(const Centrelines& c, const SectionVectors& g, double delta_factor,
                  double self_exclusion, double spacing, double parallel_angle,
-                 const WeavingOrder* weaving, std::span<const ZoneMark> previous)
+                 const WeavingOrder* weaving, std::span<const ZoneMark> previous,
+                 bool keep_kinds)
 {
   Detection d;
   d.zones = find_proximity_zones(c, delta_factor, self_exclusion);
@@ -34,10 +35,18 @@ Detection detect(const Centrelines& c, const SectionVectors& g, double delta_fac
         was_crossing = was_crossing or m.kind == ZoneKind::crossing;
         was_line = was_line or m.kind == ZoneKind::line;
       }
-    const double wrap_angle = ordered ? -1.0 : was_wrap ? 0.5 * parallel_angle : parallel_angle;
+    double wrap_angle = ordered ? -1.0 : was_wrap ? 0.5 * parallel_angle : parallel_angle;
     // a zone that was a point contact (crossing or wrap) stays one with a
     // margin; a line contact alone becomes one only past the margin
-    const double bias = (was_crossing or was_wrap) ? crossing_bias : was_line ? -crossing_bias : 0.0;
+    double bias = (was_crossing or was_wrap) ? crossing_bias : was_line ? -crossing_bias : 0.0;
+    if (keep_kinds and (was_crossing or was_wrap or was_line))
+    {
+      // within a step: the same kind outright (a bias of 1 accepts any angle
+      // and any ends for a crossing, -1 none short of twice the criteria)
+      bias = (was_crossing or was_wrap) ? 1.0 : -1.0;
+      if (!ordered)
+        wrap_angle = was_wrap ? 0.0 : -1.0;
+    }
     for (auto& p : contact_points(c, g, zone, spacing, parallel_angle, delta_factor,
                                   Eigen::Vector3d::Zero(), wrap_angle, bias))
     {
@@ -91,8 +100,8 @@ namespace
 {
 /// The patch of fibre f a side is evaluated on (particle.h): the element
 /// holding abscissa s, and with `two` its neighbour across the nearer
-/// interior node, smoothed over the window its kink there allows.
-void set_patch(const Centrelines& c, int f, double s, bool two, double g_r, Particle& p,
+/// interior node.
+void set_patch(const Centrelines& c, int f, double s, bool two, Particle& p,
                std::array<std::int64_t, max_patch_nodes>& nodes)
 {
   std::array<std::int64_t, 3> element;
@@ -103,7 +112,6 @@ void set_patch(const Centrelines& c, int f, double s, bool two, double g_r, Part
   {
     p.patch_elements = 2;
     p.patch_position = element[0] == c.fibre_offsets[f] + std::int64_t(c.order) * node ? 1 : 0;
-    p.window = patch_window((c.tangent(f, node) - c.tangent_left(f, node)).norm(), g_r);
     for (int a = 0; a <= 2 * c.order; ++a)
       nodes[a] = c.fibre_offsets[f] + std::int64_t(c.order) * (node - 1) + a;
     return;
@@ -138,8 +146,9 @@ ContactElementState make_element(const Centrelines& c, const ContactPoint& point
                   c.radius[p.fibre_j]};
   // a crossing's point moves within Newton: on the element and its
   // neighbour across the nearer node (particle.h)
-  set_patch(c, p.fibre_i, p.s_i, gap_kind == GapKind::facing, g_r, e.particle_i, e.nodes_i);
-  set_patch(c, p.fibre_j, p.s_j, gap_kind == GapKind::facing, g_r, e.particle_j, e.nodes_j);
+  const bool moving_point = gap_kind == GapKind::facing;
+  set_patch(c, p.fibre_i, p.s_i, moving_point, e.particle_i, e.nodes_i);
+  set_patch(c, p.fibre_j, p.s_j, moving_point, e.particle_j, e.nodes_j);
   e.normal = normal;
   e.motion.kind = gap_kind;
   if (gap_kind != GapKind::held)

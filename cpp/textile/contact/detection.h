@@ -57,6 +57,14 @@ std::vector<ZoneMark> zone_marks(const ContactSet& set);
 /// criterion fails by a margin, and a line contact becomes a crossing only
 /// past a margin (crossing_bias); a crossing pressed deep next to a fibre
 /// end would otherwise flip to a line contact of many elements and back.
+/// `keep_kinds` (the passes within a step after its first): a zone the
+/// last pass had keeps its kind outright (crossing, wrap or line contact),
+/// as its elements do (history_transfer.h, persist). Each kind makes the
+/// fibres take the shape that calls for the other (pressed at a point, a
+/// fibre bent over another kinks past the wrap criterion; spread along a
+/// wrap, it straightens below its hysteresis), and near a picture frame's
+/// locking a crossing and a wrap took turns from pass to pass until the
+/// step was cut; between steps the criteria decide again.
 /// Pairs that `weaving` orders (weaving_order.h) keep point crossings,
 /// never wraps: their vertical normal measures the
 /// penetration through the crossing, while along a wrap, away from it, the
@@ -64,7 +72,7 @@ std::vector<ZoneMark> zone_marks(const ContactSet& set);
 Detection detect(const Centrelines& c, const SectionVectors& g, double delta_factor,
                  double self_exclusion, double spacing, double parallel_angle,
                  const WeavingOrder* weaving = nullptr,
-                 std::span<const ZoneMark> previous = {});
+                 std::span<const ZoneMark> previous = {}, bool keep_kinds = false);
 
 /// A contact element rebuilt from its saved values (a saved state, see
 /// FibreContact.save_state): fibres, abscissas and section coordinates of

@@ -297,7 +297,6 @@ GapFunction::GapFunction(const Particle& pi, const Particle& pj, const Eigen::Ve
   _gap = centre + gap_offset - si.h - sj.h;
   if (!derivatives)
     return;
-
   _m = _grad_c;
   const int k = mo.size();
   if (k > 0)

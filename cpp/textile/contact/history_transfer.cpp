@@ -3,6 +3,7 @@
 #include "contact_normal.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -25,6 +26,17 @@ std::uint64_t pair_element_key(int fibre_i, int fibre_j, std::int64_t element)
 }
 
 std::int64_t element_index(double s) { return static_cast<std::int64_t>(std::floor(s)); }
+
+/// Abscissa on fibre f of patch coordinate xi (particle.h) of a patch whose
+/// first node is `first_node`.
+double measured_abscissa(const Centrelines& c, int f, std::int64_t first_node, double xi)
+{
+  return double(first_node - c.fibre_offsets[f]) / c.order + 0.5 * (xi + 1.0);
+}
+
+/// Is abscissa s one of fibre f's ends?
+bool at_fibre_end(const Centrelines& c, int f, double s) { return s <= 0 or s >= c.num_elements(f); }
+
 } // namespace
 
 std::vector<int> match_history(std::span<const ContactPoint> points,
@@ -151,6 +163,16 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
       normal = centroid_normal(p.tangent, p.centroid_gap, previous_normal);
       kind = GapKind::following;
     }
+    else if ((at_fibre_end(c, p.fibre_i, p.s_i) or at_fibre_end(c, p.fibre_j, p.s_j)) and !std::getenv("TX_NOEND"))
+    {
+      // a fibre's end next to another fibre: they do not cross, the end
+      // stops short of it; t_i x t_j would read the height between them as
+      // the gap, however far apart they are in the plane (a picture
+      // frame's yarn end 3.8 R from its neighbour "touched" it), and the
+      // centroids' direction measures the real distance
+      normal = centroid_normal(p.tangent, p.centroid_gap, previous_normal);
+      kind = GapKind::facing;
+    }
     else
     {
       normal = contact_normal(p.tangent_i, p.tangent_j, p.tangent, p.centroid_gap,
@@ -164,9 +186,13 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
         normal = (from->normal + normal).normalized();
       kind = GapKind::facing;
     }
-    if (par.persist and kind == GapKind::following and from
-        and from->motion.kind == GapKind::following and !claimed[match[k]]
-        and std::abs(p.s_i - from->s_i) + std::abs(p.s_j - from->s_j) <= persist_drift)
+    if (par.persist and kind != GapKind::held and from and from->motion.kind == kind
+        and !claimed[match[k]]
+        and std::abs(from->s_i - measured_abscissa(c, from->fibre_i, from->nodes_i[0],
+                                                   from->result.gap_xi[0]))
+                + std::abs(from->s_j - measured_abscissa(c, from->fibre_j, from->nodes_j[0],
+                                                         from->result.gap_xi[1]))
+            <= persist_drift)
     {
       claimed[match[k]] = 1;
       ContactElementState e = *from;

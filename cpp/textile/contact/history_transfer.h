@@ -48,12 +48,10 @@ struct ZoneInheritance
                                         ///< kind (crossing vs line contact)
 };
 
-/// How far (|s_i - s_i'| + |s_j - s_j'|, element lengths) a line contact
-/// found again may be from its predecessor for that one to be kept within
-/// a step (ElementParameters::persist): ten times the swing of a stacked
-/// yarn's placements (tests/contact/test_stacked_fibres.py), a twentieth
-/// of what a fibre sliding over an arc moves in a step
-/// (tests/contact/test_frictionless_drag.py).
+/// How far (|u - u0| + |v - v0| in abscissas, element lengths) a line
+/// contact's points may have slid from its pass's particles for it to be
+/// kept within a step (ElementParameters::persist): a fifth of what a fibre
+/// sliding over an arc moves in a step (tests/contact/test_frictionless_drag.py).
 inline constexpr double persist_drift = 0.01;
 
 /// Parameters of the elements a pass makes.
@@ -75,18 +73,22 @@ struct ElementParameters
   /// way (vertical_crossing.h): woven fibres are bent around each other.
   /// nullptr: closest points, as detection found them.
   const WeavingOrder* woven = nullptr;
-  /// Within a load step (the passes after its first): a line contact found
-  /// again within persist_drift of where the last pass had one keeps that
-  /// element, particles, plane and normal, only its zone renumbered. Its
-  /// points already slide within Newton (gap_function.h, following);
-  /// placed anew, they move with the zone's ends by a thousandth of an
-  /// element from pass to pass, over a penetration that varies along the
-  /// line, and the contact forces of a stacked yarn swing by a percent
-  /// between two places for ever. The first pass of a step places every
-  /// element from the geometry again, and so does any pass for an element
-  /// that moved further (a fibre sliding over another: kept in place, the
-  /// elements' planes lag behind and drag it, 1e-3 of its tension instead
-  /// of 2e-4, tests/contact/test_frictionless_drag.py).
+  /// Within a load step (the passes after its first): a line contact or a
+  /// crossing found again keeps that element (particles, plane, normal; only
+  /// its zone renumbered) while its points, which move within Newton
+  /// (gap_function.h: following, facing), are within persist_drift of
+  /// where its pass put them. Placed anew, a line contact's points move
+  /// with the zone's ends from pass to pass, over a penetration that varies
+  /// along the line, and the contact forces of a stacked yarn swing by a
+  /// percent between two places for ever; a crossing's friction particles,
+  /// put where the last solve left its point, move the point again, and a
+  /// picture frame's contact loop crept on at a rate near 1 (60 solves a
+  /// step near 60 deg of shear). The
+  /// first pass of a step places every element from the geometry again,
+  /// and so does any pass for an element whose points slid further (a
+  /// fibre sliding over a curved one: kept, the elements' planes lag behind
+  /// the curve and drag it, 1e-3 of its tension instead of 2e-4,
+  /// tests/contact/test_frictionless_drag.py).
   bool persist = false;
 };
 

@@ -19,20 +19,9 @@ void lagrange2(int num_nodes, double xi, std::array<double, 3>& n, std::array<do
 }
 } // namespace
 
-double patch_window(double jump, double g_r)
-{
-  // the blend's largest offset from the fibre is 0.086 w |jump| (at 0.35 w
-  // from the node)
-  constexpr double offset_per_window = 0.086;
-  if (!(jump > 0))
-    return patch_smoothing;
-  return std::min(patch_smoothing, smoothing_deviation * g_r / (offset_per_window * jump));
-}
-
 PatchShape::PatchShape(const Particle& p, double xi)
 {
-  if (p.num_nodes < 2 or p.num_nodes > 3 or p.patch_elements < 1 or p.patch_elements > 2
-      or !(p.window > 0))
+  if (p.num_nodes < 2 or p.num_nodes > 3 or p.patch_elements < 1 or p.patch_elements > 2)
     throw std::invalid_argument("PatchShape: elements of 2 or 3 nodes, patches of 1 or 2");
   std::array<double, 3> a, da, dda;
   if (p.patch_elements == 1)
@@ -45,7 +34,7 @@ PatchShape::PatchShape(const Particle& p, double xi)
   // two elements A (xi in [-1, 1]) and B (xi in [1, 3]), blended across
   // the shared node (xi = 1) over |xi - 1| < w, w in xi units
   const int shift = p.num_nodes - 1; // B's first node in the patch
-  const double w = 2.0 * p.window;
+  const double w = 2.0 * patch_smoothing;
   const double tau = (xi - (1.0 - w)) / (2.0 * w);
   double phi = 0, dphi = 0, ddphi = 0; // blend and its derivatives in xi
   if (tau >= 1)

@@ -16,11 +16,11 @@
 // kinked line the point where two fibres face each other, and the
 // direction of the force there, jump as it passes the node: Newton cycles
 // (a 3-fibre yarn's weaving stopped at 17% of its stage). The smoothed
-// line passes through the node and stays within 0.09 w |d| of the fibre
-// (w the window's half-width, d the jump of dx0/ds at the node): a window
-// narrow enough at a sharp kink keeps that below smoothing_deviation x g_r
-// (patch_window), or the smoothed corner of a sharply bent monofilament
-// would hide a penetration of a tenth of its radius.
+// line passes through the node and stays within 0.086 w |d| of the fibre
+// (w the window's half-width, d the jump of dx0/ds at the node: about a
+// micron for a 10 deg kink of 0.3 mm elements). A window that depended on
+// the kink would change with it from pass to pass, and with it the points
+// the crossings settle at.
 #pragma once
 
 #include <Eigen/Core>
@@ -37,18 +37,6 @@ namespace textile::contact
 /// tangents, intermediate_geometry.h: the same spread of a kink).
 inline constexpr double patch_smoothing = 0.5;
 
-/// Largest distance between a smoothed patch and its fibre, in units of
-/// the contact's regularization depth g_r: below what the penalty resolves
-/// (its target penetration is a few g_r). A quarter narrows the windows of
-/// a densely woven monofilament's kinks so much that its relaxation cycles
-/// (tests/stability/test_weaving_start.py, 4 widths apart).
-inline constexpr double smoothing_deviation = 1.0;
-
-/// The window half-width (element lengths) for a kink whose dx0/ds jumps by
-/// `jump` (length) at the node: patch_smoothing, or narrower so that the
-/// smoothed line stays within smoothing_deviation x g_r of the fibre.
-double patch_window(double jump, double g_r);
-
 /// Most nodes of a patch: two quadratic elements.
 inline constexpr int max_patch_nodes = 5;
 
@@ -63,7 +51,6 @@ struct Particle
   double radius = 0; ///< section radius R (length)
   int patch_elements = 1; ///< 1, or 2 (the particle's element and a neighbour)
   int patch_position = 0; ///< which of the patch's elements holds the particle (0, 1)
-  double window = patch_smoothing; ///< smoothing half-width (element lengths), patch_window
 
   /// Nodes of the patch (the element's first).
   int patch_nodes() const { return (num_nodes - 1) * patch_elements + 1; }
