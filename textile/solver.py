@@ -517,7 +517,15 @@ class Solver:
                 attempt.residual_norms += [float(r) for r in
                                            self.snes.getConvergenceHistory()[0][: its + 1]]
                 if not (attempt.reason == PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE
-                        and self.linear.krylov and m.domain_error is None):
+                        and m.domain_error is None):
+                    break
+                if self.linear.grow_workspace(self.snes):
+                    # MUMPS out of its workspace estimate: again with more
+                    self._counts["linear_solve_retries"] += 1
+                    self._log(f"  MUMPS's workspace estimate was too small: relaxed to "
+                              f"{self.linear.relaxation()}%, solving again")
+                    continue
+                if not self.linear.krylov:
                     break
                 # GMRES with a reused or approximate factorization failed:
                 # go on from this iterate with a fresh, exact one

@@ -332,7 +332,7 @@ class FibreContact(Effect):
         """Detect, carry history, set normals and zone penalties; True if
         the contact forces at q changed beyond update_tolerance. ``persist``
         (the passes within a step): zones keep their kind (detection.h,
-        keep_kinds) and elements found again keep their parameters
+        keep_kinds) and line contacts found again keep their elements
         (ElementParameters::persist in history_transfer.h)."""
         o, mesh, comm = self.options, self.model.mesh, self.model.comm
         old = self.set

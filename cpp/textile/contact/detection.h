@@ -59,7 +59,10 @@ std::vector<ZoneMark> zone_marks(const ContactSet& set);
 /// end would otherwise flip to a line contact of many elements and back.
 /// `keep_kinds` (the passes within a step after its first): a zone the
 /// last pass had keeps its kind outright (crossing, wrap or line contact),
-/// as its elements do (history_transfer.h, persist). Each kind makes the
+/// as its line contacts keep their elements (history_transfer.h, persist);
+/// a step's first pass sees the last pass's kind with margins (the penalty
+/// continuity test's switch shows one step later,
+/// tests/contact/test_penalty_units.py). Each kind makes the
 /// fibres take the shape that calls for the other (pressed at a point, a
 /// fibre bent over another kinks past the wrap criterion; spread along a
 /// wrap, it straightens below its hysteresis), and near a picture frame's

@@ -163,7 +163,7 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
       normal = centroid_normal(p.tangent, p.centroid_gap, previous_normal);
       kind = GapKind::following;
     }
-    else if ((at_fibre_end(c, p.fibre_i, p.s_i) or at_fibre_end(c, p.fibre_j, p.s_j)) and !std::getenv("TX_NOEND"))
+    else if ((at_fibre_end(c, p.fibre_i, p.s_i) or at_fibre_end(c, p.fibre_j, p.s_j)))
     {
       // a fibre's end next to another fibre: they do not cross, the end
       // stops short of it; t_i x t_j would read the height between them as
@@ -186,7 +186,7 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
         normal = (from->normal + normal).normalized();
       kind = GapKind::facing;
     }
-    if (par.persist and kind != GapKind::held and from and from->motion.kind == kind
+    if (par.persist and kind == GapKind::following and from and from->motion.kind == kind
         and !claimed[match[k]]
         and std::abs(from->s_i - measured_abscissa(c, from->fibre_i, from->nodes_i[0],
                                                    from->result.gap_xi[0]))
