@@ -17,6 +17,11 @@ iterations or accuracy:
 - ``low_rank_tolerance > 0``: MUMPS block low-rank factorization (an
   approximate LU, used as a preconditioner of GMRES on the exact tangent).
 
+A MUMPS factorization that runs out of the workspace its analysis
+estimated (numerical pivoting on multiplier rows can need more) is retried
+with twice the relaxation ICNTL(14) (:meth:`LinearSolver.grow_workspace`,
+counted in ``linear_solve_retries``).
+
 Every factorization and solve is counted from PETSc's own event log.
 """
 from __future__ import annotations
@@ -94,6 +99,7 @@ class LinearSolver:
                     opts[prefix + "mat_mumps_icntl_14"] = 100
         self._since_factor = None  # Newton iterations since the last factorization
         self.forced = 0            # factorizations forced by a failed or slow GMRES
+        self.prefix = prefix
 
     # -- factorization policy --------------------------------------------------
     def operators(self, A: PETSc.Mat) -> tuple[PETSc.Mat, PETSc.Mat]:
@@ -123,6 +129,35 @@ class LinearSolver:
             self._since_factor = 0
         _cpp.set_lag_preconditioner(snes, -2 if due else -1)
         self._since_factor += 1
+
+    def grow_workspace(self, snes: PETSc.SNES) -> bool:
+        """After a failed linear solve: if MUMPS ran out of the workspace its
+        analysis estimated (INFOG(1) = -8 or -9: numerical pivoting delayed
+        more pivots than foreseen, as on a tangent with multiplier rows and a
+        non-symmetric friction block), double the relaxation ICNTL(14) and
+        reset the preconditioner so that the next solve analyses afresh with
+        it; True then (the solver solves again), False otherwise or past
+        1280%."""
+        if self.options.linear_solver != "mumps":
+            return False
+        pc = snes.getKSP().getPC()
+        factor = pc.getFactorMatrix()
+        if factor.getMumpsInfog(1) not in (-8, -9):
+            return False
+        relax = factor.getMumpsIcntl(14)
+        if relax >= 1280:
+            return False
+        PETSc.Options()[self.prefix + "mat_mumps_icntl_14"] = 2 * max(relax, 20)
+        # ICNTL(14) sizes the workspace at analysis: a new analysis
+        pc.reset()
+        pc.setType(self.kind)
+        pc.setFactorSolverType(self.options.linear_solver)
+        self._since_factor = None
+        return True
+
+    def relaxation(self) -> int:
+        """MUMPS's workspace relaxation ICNTL(14) set for this solver (%)."""
+        return PETSc.Options().getInt(self.prefix + "mat_mumps_icntl_14", 20)
 
     def force_refactorization(self) -> None:
         """The next tangent is factorized (e.g. after GMRES failed)."""

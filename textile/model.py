@@ -492,6 +492,7 @@ class Model:
         if not self.comm.allreduce(error is not None, op=MPI.LOR):
             return False
         self.domain_error = error or _cpp.GeometryError("domain error on another rank")
+        b.assemble()  # values an effect added before it met the error
         b.set(np.inf)
         self.residual_norms = np.full(len(self.residual_groups.names), np.inf)
         return True

@@ -517,7 +517,15 @@ class Solver:
                 attempt.residual_norms += [float(r) for r in
                                            self.snes.getConvergenceHistory()[0][: its + 1]]
                 if not (attempt.reason == PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE
-                        and self.linear.krylov and m.domain_error is None):
+                        and m.domain_error is None):
+                    break
+                if self.linear.grow_workspace(self.snes):
+                    # MUMPS out of its workspace estimate: again with more
+                    self._counts["linear_solve_retries"] += 1
+                    self._log(f"  MUMPS's workspace estimate was too small: relaxed to "
+                              f"{self.linear.relaxation()}%, solving again")
+                    continue
+                if not self.linear.krylov:
                     break
                 # GMRES with a reused or approximate factorization failed:
                 # go on from this iterate with a fresh, exact one
@@ -779,10 +787,11 @@ class Solver:
             self.run_stage(stage)
         return self.history
 
-    def run_stage(self, stage: Stage) -> list[StepRecord]:
+    def run_stage(self, stage: Stage, t_end: float = 1.0) -> list[StepRecord]:
         """Start ``stage`` where the current one ended and solve it to its
-        end. The current stage must be complete (load factor 1), unless
-        nothing has been solved yet."""
+        load factor ``t_end`` (default 1, its end; :meth:`solve` goes on
+        from there, with the solver's own options). The current stage must
+        be complete (load factor 1), unless nothing has been solved yet."""
         if not isinstance(stage, Stage):
             raise TypeError(f"expected a textile.Stage, got {type(stage).__name__}")
         m = self.model
@@ -807,7 +816,7 @@ class Solver:
         self._previous = None  # no secant predictor across stages
         self._log(f"stage {self._stage_index}: {stage.name}")
         try:
-            return self.solve(1.0)
+            return self.solve(t_end)
         finally:
             self.options = self._base_options
 

@@ -166,7 +166,7 @@ void declare_contact(py::module_& m)
       [](const carray<double>& q, const carray<std::int64_t>& first_node, int order,
          const carray<double>& radius, double delta_factor, double self_exclusion, double spacing,
          double parallel_angle, const py::object& held, const WeavingOrder* weaving,
-         const carray<double>& zones)
+         const carray<double>& zones, bool keep_kinds)
       {
         Geometry geo(q, first_node, order, radius);
         const SectionVectors g{geo.g};
@@ -183,7 +183,7 @@ void declare_contact(py::module_& m)
                       static_cast<ZoneKind>(kind)};
         }
         Detection d = detect(geo.lines, g, delta_factor, self_exclusion, spacing, parallel_angle,
-                             weaving, marks);
+                             weaving, marks, keep_kinds);
         if (!held.is_none())
           d.held = add_held_contacts(d, geo.lines, g, held_from_arrays(held.cast<py::dict>()));
         return d;
@@ -191,14 +191,15 @@ void declare_contact(py::module_& m)
       py::arg("q"), py::arg("first_node"), py::arg("order"), py::arg("radius"),
       py::arg("delta_factor"), py::arg("self_exclusion"), py::arg("spacing"),
       py::arg("parallel_angle"), py::arg("held") = py::none(), py::arg("weaving") = nullptr,
-      py::arg("zones") = carray<double>(),
+      py::arg("zones") = carray<double>(), py::arg("keep_kinds") = false,
       "One detection pass on the current nodal unknowns q (nodes x 9): a Detection. `held`: "
       "contacts of the last pass not to lose (ContactSet.contacts_to_hold, gathered from "
       "every rank), kept as zones of their own where detection finds none. `weaving`: the "
       "WeavingOrder of the weaving mode (its ordered pairs keep point crossings). `zones`: "
       "(n, 5) fibre_i, fibre_j, s_i, s_j, kind (0 crossing, 1 wrap, 2 line contact) of the "
       "last pass's zones, gathered from every rank (ContactSet.zone_marks): the hysteresis of "
-      "the wrap and crossing criteria.");
+      "the wrap and crossing criteria. `keep_kinds`: the passes within a step keep each "
+      "marked zone's kind outright.");
 
   py::class_<WeavingOrder>(m, "WeavingOrder",
                            "Crossing order of the weaving stage: fibre -> yarn, and "
@@ -265,13 +266,14 @@ void declare_contact(py::module_& m)
              const carray<std::int64_t>& first_node, int order, const carray<double>& radius,
              double penalty, double g_r, double mu, double u_rev, double parallel_angle,
              std::pair<std::int64_t, std::int64_t> owned, const WeavingOrder* weaving,
-             bool reset_normals, const WeavingOrder* woven)
+             bool reset_normals, const WeavingOrder* woven, bool persist)
           {
             Geometry geo(q, first_node, order, radius);
             ElementParameters par{penalty, g_r, RegularizedCoulomb{mu, u_rev}, parallel_angle};
             par.weaving = weaving;
             par.reset_normals = reset_normals;
             par.woven = woven;
+            par.persist = persist;
             auto [set, zones] = next_contact_set(self, found, geo.lines, cspan(q), par, owned);
             py::dict inherited;
             inherited["penalty"] = array_of(zones.penalty);
@@ -283,7 +285,7 @@ void declare_contact(py::module_& m)
           py::arg("found"), py::arg("q"), py::arg("first_node"), py::arg("order"),
           py::arg("radius"), py::arg("penalty"), py::arg("g_r"), py::arg("mu"), py::arg("u_rev"),
           py::arg("parallel_angle"), py::arg("owned"), py::arg("weaving") = nullptr,
-          py::arg("reset_normals") = false, py::arg("woven") = nullptr,
+          py::arg("reset_normals") = false, py::arg("woven") = nullptr, py::arg("persist") = false,
           "The set of detection pass `found` with history from this one (evaluated by this "
           "rank: evaluated_here in contact_set.h), and what each new zone inherits. "
           "`weaving`: a WeavingOrder whose ordered pairs take the vertical normal; "
@@ -300,7 +302,18 @@ void declare_contact(py::module_& m)
             const auto zone = a["zone"].cast<carray<int>>();
             const auto crossing = a["crossing"].cast<carray<bool>>();
             const auto wrap = a["wrap"].cast<carray<bool>>();
+            // states saved before gap kinds: what a new pass would give
+            carray<int> gap_kind(fi.size());
+            if (a.contains("gap_kind"))
+              gap_kind = a["gap_kind"].cast<carray<int>>();
+            else
+              for (py::ssize_t e = 0; e < fi.size(); ++e)
+                gap_kind.mutable_data()[e] = wrap.data()[e] ? 0 : crossing.data()[e] ? 2 : 1;
             const auto si = col("s_i"), sj = col("s_j"), n = col("normal"), st = col("stick");
+            // states saved before the tangents were: from the geometry
+            const bool tangents = a.contains("tangent_i") and a.contains("tangent_j");
+            const auto ti = tangents ? col("tangent_i") : carray<double>(3 * fi.size());
+            const auto tj = tangents ? col("tangent_j") : carray<double>(3 * fi.size());
             const auto len = col("length"), k = col("penalty");
             const auto x1i = col("xi1_i"), x2i = col("xi2_i"), x1j = col("xi1_j"),
                        x2j = col("xi2_j");
@@ -309,7 +322,9 @@ void declare_contact(py::module_& m)
               if (arr->size() != size)
                 throw std::invalid_argument("ContactSet.from_saved: arrays of different lengths");
             if (fj.size() != size or zone.size() != size or crossing.size() != size
-                or wrap.size() != size or n.size() != 3 * size or st.size() != 3 * size)
+                or wrap.size() != size or gap_kind.size() != size or n.size() != 3 * size
+                or st.size() != 3 * size or (tangents and (ti.size() != 3 * size
+                                                          or tj.size() != 3 * size)))
               throw std::invalid_argument("ContactSet.from_saved: arrays of different lengths");
             const RegularizedCoulomb friction{mu, u_rev};
             std::vector<ContactElementState> elements;
@@ -322,9 +337,14 @@ void declare_contact(py::module_& m)
                                        zone.data()[e],  crossing.data()[e],
                                        wrap.data()[e],  Eigen::Vector3d(n.data() + 3 * e),
                                        len.data()[e],   k.data()[e],
-                                       Eigen::Vector3d(st.data() + 3 * e)};
+                                       Eigen::Vector3d(st.data() + 3 * e),
+                                       static_cast<GapKind>(gap_kind.data()[e]),
+                                       tangents ? Eigen::Vector3d(ti.data() + 3 * e)
+                                                : Eigen::Vector3d::Zero(),
+                                       tangents ? Eigen::Vector3d(tj.data() + 3 * e)
+                                                : Eigen::Vector3d::Zero()};
               ContactElementState el = restore_element(geo.lines, saved, g_r, friction, cspan(q));
-              if (evaluated_here(el.fibre_i, el.fibre_j, el.nodes_i[0], el.nodes_j[0], owned))
+              if (evaluated_here(el.fibre_i, el.fibre_j, el.element_node_i(), el.element_node_j(), owned))
                 elements.push_back(el);
             }
             return ContactSet(std::move(elements), num_zones);
@@ -341,6 +361,8 @@ void declare_contact(py::module_& m)
       .def("set_depths", [](ContactSet& self, const carray<double>& d)
            { self.set_depths(cspan(d)); })
       .def("set_depth_scale", &ContactSet::set_depth_scale)
+      .def("set_motion_depth", &ContactSet::set_motion_depth, py::arg("depth"),
+           "Newton's tangent keeps the points' motion for elements closed by at most depth.")
       .def("set_tangent_floor", &ContactSet::set_tangent_floor, py::arg("fraction"),
            "Every element's tangent floor (regularized_penalty.h) for the next tangents.")
       .def("zone_max_penetration",
@@ -430,6 +452,13 @@ void declare_contact(py::module_& m)
              put("elastic_slip", [&](const Element& e) { return self.elastic_slip(e); });
              put("stick", [](const Element& e) { return e.stick; });
              put("wrap", [](const Element& e) { return e.wrap; });
+             put("gap_kind", [](const Element& e) { return static_cast<int>(e.motion.kind); });
+             put("tangent_i", [](const Element& e) { return e.motion.tangent_i; });
+             // patch coordinates (particle.h) of the points last measured
+             put("measured_xi_i", [](const Element& e) { return e.result.gap_xi[0]; });
+             put("measured_xi_j", [](const Element& e) { return e.result.gap_xi[1]; });
+             put("tangent_j", [](const Element& e) { return e.motion.tangent_j; });
+
              put("xi1_i", [](const Element& e) { return e.particle_i.xi1; });
              put("xi2_i", [](const Element& e) { return e.particle_i.xi2; });
              put("xi1_j", [](const Element& e) { return e.particle_j.xi1; });

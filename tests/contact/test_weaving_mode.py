@@ -116,9 +116,11 @@ def test_two_yarns_weave_to_the_order_and_keep_it(warp_on_top):
         # penetration the penalty allows (the band's top), read at the
         # middle nodes: the contacts sit where each pair of fibres crosses,
         # up to 2 R off the middle, where the bent fibres are a little
-        # closer (measured 3.3e-7 m = 3.3e-4 R beyond the band's top, 6x
-        # below this margin of 0.05 target = 2e-6 m)
-        assert z[upper].min() - z[~upper].max() > 2 * R - 2.05 * target
+        # closer, and they measure the centre lines smoothed across the
+        # kinked middle nodes (particle.h), up to about kink x window / 8
+        # off the fibres (measured 5.3e-6 m = 0.13 target beyond the band's
+        # top; 3.3e-7 m with crossings held at their particles)
+        assert z[upper].min() - z[~upper].max() > 2 * R - 2.3 * target
         d = contact.elements()
         active = d["normal_force"] > 0
         assert -d["gap"][active].min() <= 2 * target

@@ -69,3 +69,29 @@ def test_bad_options_are_named():
                        (dict(newton="quasi"), "newton")]:
         with pytest.raises(ValueError, match=match):
             textile.Solver(model, bad)
+
+
+def test_mumps_workspace_grows_when_its_estimate_falls_short(tmp_path_factory):
+    """MUMPS sizes its workspace at analysis from an estimate relaxed by
+    ICNTL(14) percent; numerical pivoting on a tangent with multiplier rows
+    (side bodies on a matrix) and a non-symmetric friction block can need
+    more (INFOG(1) = -9, seen on the tests' composite with PETSc's default
+    20%). The solver then doubles the relaxation and analyses afresh:
+    started from 1%, the composite's release needs one retry (measured) and
+    ends where a run with ample workspace (200%) ends."""
+    from tests.io.test_state_file import QUIET, composite, fabric
+    from tests.woven_states import woven_once
+    woven = woven_once(tmp_path_factory, fabric(), QUIET)
+    ends = {}
+    for relax in (1, 200):
+        c, _, stages = composite(woven, MPI.COMM_SELF)
+        solver = textile.Solver(c.model, dict(verbose=False,
+                                              petsc_options={"mat_mumps_icntl_14": relax}))
+        solver.run(stages)
+        ends[relax] = (c.model.nodal_unknowns(), solver.counters["linear_solve_retries"],
+                       solver.linear.relaxation())
+    q1, retries, relaxed = ends[1]
+    assert (retries, relaxed) == (1, 40)       # 1% -> 2 x max(1, PETSc's 20)
+    assert ends[200][1:] == (0, 200)
+    # the same factorizations once they succeed: the same answer exactly
+    assert np.array_equal(q1, ends[200][0])

@@ -34,8 +34,10 @@ def test_weaving_start(out, spacing):
     # the pattern: every upper fibre above the lower one by most of the two
     # radii (contact at 2 R, less the allowed penetration and the bending
     # between the contact points and the yarns' crossing point: measured
-    # 1.78 R at the densest spacing)
-    assert fm.crossing_separation(fab, w.model).min() > 1.7 * R
+    # 1.68 R at the densest spacing, where the fibres cross 0.04-0.065
+    # element off their nominal crossing nodes; 1.78 R while crossings were
+    # held at those nodes)
+    assert fm.crossing_separation(fab, w.model).min() > 1.6 * R
     assert w.summary()["max penetration / radius"] <= 0.1
     # forces balance: contact is internal, so the forces of all rigid bodies
     # on the fibres (clamp reactions, ~4 N here against 0.016 N of tension:

@@ -294,13 +294,14 @@ class FibreContact(Effect):
 
     # -- detection and history -----------------------------------------------
     def _detect(self, q: np.ndarray, held: dict | None = None,
-                zones: np.ndarray | None = None):
+                zones: np.ndarray | None = None, keep_kinds: bool = False):
         mesh = self.model.mesh
         return _cpp.detect_contacts(q, mesh.first_node, mesh.order, self.radius,
                                     self.options.search_factor, self.self_exclusion,
                                     self.spacing, math.radians(self.options.parallel_angle),
                                     held, self._order if self.mode == "weaving" else None,
-                                    np.zeros((0, 5)) if zones is None else zones)
+                                    np.zeros((0, 5)) if zones is None else zones,
+                                    keep_kinds)
 
     def _contacts_to_hold(self, q: np.ndarray) -> dict:
         """The closed elements of every rank (at the set's last evaluation)
@@ -327,20 +328,23 @@ class FibreContact(Effect):
             self._timing[k] += v
         self.set = new
 
-    def _rebuild(self, q: np.ndarray, reset_normals: bool = False) -> bool:
+    def _rebuild(self, q: np.ndarray, reset_normals: bool = False, persist: bool = False) -> bool:
         """Detect, carry history, set normals and zone penalties; True if
-        the contact forces at q changed beyond update_tolerance."""
+        the contact forces at q changed beyond update_tolerance. ``persist``
+        (the passes within a step): zones keep their kind (detection.h,
+        keep_kinds) and line contacts found again keep their elements
+        (ElementParameters::persist in history_transfer.h)."""
         o, mesh, comm = self.options, self.model.mesh, self.model.comm
         old = self.set
         old.evaluate(q)  # elastic slips, zone forces and held contacts from this state
-        found = self._detect(q, self._contacts_to_hold(q), self._zone_marks())
+        found = self._detect(q, self._contacts_to_hold(q), self._zone_marks(), persist)
         self.held_contacts += found.held
         before = old.nodal_forces(q)
         new, inherited = old.next(found, q, mesh.first_node, mesh.order, self.radius, self.k0,
                                   self.g_r, o.friction, self.u_rev,
                                   math.radians(o.parallel_angle), mesh.owned,
                                   self._order if self.mode == "weaving" else None,
-                                  reset_normals, self._woven)
+                                  reset_normals, self._woven, persist)
         self._set_depths(new)
         self._carry_zone_penalties(new, old, inherited, q)
         new.evaluate(q)
@@ -480,7 +484,7 @@ class FibreContact(Effect):
         self._check_crossed()
         emergency = self._retune(in_step=True)
         self.emergency_retunes += emergency
-        changed = self._rebuild(q) or emergency > 0
+        changed = self._rebuild(q, persist=True) or emergency > 0
         # another Newton solve follows only if something changed (not, e.g.,
         # the stability check's factorization at the converged state)
         self._newton_pending, self._tangents = changed, 0
@@ -514,6 +518,9 @@ class FibreContact(Effect):
         floor = self.options.tangent_floor * FLOOR_DECAY ** self._tangents \
             if self._newton_pending else 0.0
         self.set.set_tangent_floor(floor)
+        # penetrations beyond the adaptation band: the tangent of held
+        # points (ContactSet.set_motion_depth)
+        self.set.set_motion_depth(self.options.penalty_band[1] * self.adaptation.target)
         self._tangents += 1
         self.set.assemble_matrix(q, self.model.beam_global_dofs(state), A)
 
@@ -521,7 +528,11 @@ class FibreContact(Effect):
     state_name = "fibre contact"
     #: element columns of a saved state (ContactSet.data() / from_saved)
     SAVED = ("fibre_i", "fibre_j", "s_i", "s_j", "xi1_i", "xi2_i", "xi1_j", "xi2_j", "zone",
-             "crossing", "wrap", "normal", "length", "penalty", "stick")
+             "crossing", "wrap", "normal", "length", "penalty", "stick", "gap_kind",
+             "tangent_i", "tangent_j")
+    #: columns states saved before them lack (from_saved derives them from
+    #: the geometry)
+    SAVED_SINCE = ("gap_kind", "tangent_i", "tangent_j")
 
     def save_state(self, model) -> dict:
         """The committed contact elements with their history (normal
@@ -552,7 +563,8 @@ class FibreContact(Effect):
         if not data:
             raise ValueError("the state file holds no fibre contact history, the model has "
                              "FibreContact: save the state with the contact in the scene")
-        missing = [k for k in self.SAVED + ("num_zones", "mode") if k not in data]
+        missing = [k for k in self.SAVED + ("num_zones", "mode")
+                   if k not in data and k not in self.SAVED_SINCE]
         if missing:
             raise ValueError(f"the state file's fibre contact history lacks {missing}")
         n = len(model.mesh.fibres)
@@ -580,7 +592,8 @@ class FibreContact(Effect):
             self._woven = _cpp.WeavingOrder(
                 np.asarray(data["woven_fibre_yarn"], dtype=np.intc),
                 np.asarray(data["woven_yarn_above"], dtype=np.int8))
-        self._restore(model, {k: data[k] for k in self.SAVED}, int(data["num_zones"]))
+        self._restore(model, {k: data[k] for k in self.SAVED if k in data},
+                      int(data["num_zones"]))
 
     def _restore(self, model, columns: dict, num_zones: int) -> None:
         """Elements from saved columns (ContactSet.data() of all ranks or of
@@ -666,6 +679,14 @@ class FibreContact(Effect):
         for k, v in self.set.timing().items():
             out[k] += v
         return out
+
+    def nodal_forces(self) -> np.ndarray:
+        """(nodes, 9): this rank's contact elements' generalized forces on
+        every fibre node's [x0, g1, g2] at the current state (the residual's
+        contact part: internal force, so minus what the contact pushes
+        with), in the global node numbering."""
+        q = self.model.beam_positions(self.model.state())
+        return np.asarray(self.set.nodal_forces(q)).reshape(-1, 9)
 
     def elements(self) -> dict:
         """This rank's contact elements: arrays of fibres, abscissas, normals,

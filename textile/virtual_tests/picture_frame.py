@@ -68,18 +68,14 @@ so the frame's corners are checked from the side bodies
 (:meth:`PictureFrame.corner_positions`) and the pins from either
 (:meth:`PictureFrame.pin_positions`).
 
-Locking (measured 2026-12-01, tests/virtual/test_picture_frame.py): 2 x 2
-plain weaves of flat 2-fibre yarns (R = 0.1 mm, E = 5 GPa, friction 0.2,
-yarn pins) whose yarn ends run 1.5 spacings beyond the crossings lock: the
-tangent stiffness rises tenfold above its first interval's at 57.5-57.7
-deg 2.5 widths apart (pin-joint bound 66.4) and at 60.0-60.3 deg 2.75
-widths apart (bound 68.7), each within 0.02-0.5 deg of the first contact between
-parallel yarns ("lateral yarn contact from [deg]"), and climbs to 30-50
-times within 3 deg. 3 widths apart no yarns touch up to 60 deg (bound
-70.5), and 2 and 2.25 widths apart the solve stops (45 and 50 deg) before
-they do. The first interval is the stiffest before locking: every contact
-starts sticking, and the tangent then falls to a twentieth of it while
-the crossings slip and the yarns bow into an S.
+Stiffening, not locking (tests/virtual/test_picture_frame.py; figures in
+benchmarks/README.md): in 2 x 2 plain weaves of flat 2-fibre yarns 2.5 and
+2.75 widths apart the tangent stiffness rises progressively, fivefold
+above its first interval's several degrees below the pin-joint bound, and
+no parallel yarns touch: the crossings, turned by 60 deg and more, press
+the bowed yarns' fibres together. The first interval is the stiffest
+before that: every contact starts sticking, and the tangent then falls to
+a twentieth of it while the crossings slip and the yarns bow into an S.
 
 What the sample needs: crossings several elements from the yarn clamps.
 With the default free length (half a spacing: the last crossing one
@@ -91,8 +87,8 @@ inverted. Two properties of the contact detection were needed as well
 tangents blended across kinked nodes (the crossing's normal swung by the
 kink angle as the crossing moved across the node between passes), and a
 zone keeps its kind (crossing or line contact) until the criterion fails
-by a margin. Without them the 2.5-width sample above stops at 54.6 deg,
-before the yarns touch.
+by a margin (and outright within a step). Without them the 2.5-width
+sample above stopped at 54.6 deg.
 
 Monofilaments with per-fibre pins (tests/virtual): 6 widths apart the
 fibres' shear angle exceeds the frame's by 2.5 % (the yarns bow slightly

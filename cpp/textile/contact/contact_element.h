@@ -14,47 +14,38 @@
 // xi2 g2_a), whose relative position Delta = x_i(p_i) - x_j(p_j) is linear
 // in the unknowns. Residual and tangent below are exact.
 //
+// How much of this moves with the unknowns within Newton is the element's
+// gap kind (gap_function.h): held as above, a normal that follows the
+// centre lines in the section plane (line contacts), or particles that move
+// to where the centre lines face each other along N (crossings).
+//
 // Signs: N points from fibre j towards fibre i, gap < 0 when they
 // interpenetrate. The residual is the internal force: the normal part is
 // -R_N(gap) dgap/dq (pushes the sections apart), the friction part is
 // T . dDelta/dq with T the tangential reaction (resists relative sliding).
 #pragma once
 
+#include "gap_function.h"
 #include "normal_law.h"
+#include "particle.h"
 #include "regularized_coulomb.h"
 
 #include <Eigen/Dense>
 
+#include <array>
 #include <span>
 #include <vector>
 
 namespace textile::contact
 {
 
-/// A material point of a fibre element: axial coordinate xi in [-1, 1] of
-/// an element with num_nodes (2 or 3) nodes, section coordinates (xi1, xi2)
-/// (length) along g1, g2.
-struct Particle
-{
-  int num_nodes = 3;
-  double xi = 0;
-  double xi1 = 0, xi2 = 0;
-  double radius = 0; ///< section radius R (length)
-};
-
-/// Coefficients c_s, s = 3 a + f (node a, field f: x0, g1, g2), with
-/// x(p) = sum_s c_s q_s. Size 3 num_nodes.
-std::vector<double> particle_coefficients(const Particle& p);
-
-/// Position of the particle from the element's current nodal unknowns.
-Eigen::Vector3d particle_position(const Particle& p, std::span<const double> x);
-
 /// What one evaluation found.
 struct ContactResult
 {
   double gap = 0;                             ///< section distance along N (length)
-  /// N . (x0_i - x0_j) (length): negative when the centre lines lie on the
-  /// wrong side of each other along N (the fibres have passed through)
+  /// N . (x0_i - x0_j) (length; with a following normal, N . P (x0_i - x0_j)):
+  /// negative when the centre lines lie on the wrong side of each other
+  /// along N (the fibres have passed through)
   double separation = 0;
   double normal_force = 0;                    ///< R_N >= 0
   Eigen::Vector3d tangential_force = Eigen::Vector3d::Zero(); ///< T
@@ -62,6 +53,8 @@ struct ContactResult
   Eigen::Vector3d position_i = Eigen::Vector3d::Zero();       ///< x_i(p_i)
   Eigen::Vector3d position_j = Eigen::Vector3d::Zero();       ///< x_j(p_j)
   bool slip = false;
+  /// patch coordinates (particle.h) of the points the gap is measured at
+  std::array<double, 2> gap_xi{0.0, 0.0};
 };
 
 /// Residual and tangent of one contact element. The tangent's normal
@@ -78,12 +71,17 @@ struct ContactResult
 ///                  overwritten (zero for an open element)
 /// @param K         the tangent, row-major, if not empty (not symmetric with
 ///                  friction), overwritten: callers need not clear it
+/// @param gap_offset    see contact_gap
+/// @param motion        the element's gap kind (gap_function.h)
+/// @param motion_tangent false: the tangent without the terms of the
+///                      points' motion (GapFunction::add_hessian)
 ContactResult contact_element(const Particle& pi, const Particle& pj,
                               const Eigen::Vector3d& normal, const NormalLaw& law,
                               const RegularizedCoulomb* friction, const Eigen::Vector3d& stick,
                               std::span<const double> xi, std::span<const double> xj,
                               std::span<double> r, std::span<double> K,
-                              double gap_offset = 0.0);
+                              double gap_offset = 0.0, const GapMotion& motion = {},
+                              bool motion_tangent = true);
 
 /// The gap alone, as contact_element computes it, without derivatives or
 /// allocation: lets an assembler skip open elements (R_N = 0 and
@@ -94,7 +92,7 @@ ContactResult contact_element(const Particle& pi, const Particle& pj,
 /// yarns' initial interpenetration progressively (contact_set.h).
 double contact_gap(const Particle& pi, const Particle& pj, const Eigen::Vector3d& normal,
                    std::span<const double> xi, std::span<const double> xj,
-                   double gap_offset = 0.0);
+                   double gap_offset = 0.0, const GapMotion& motion = {});
 
 /// Stick point after a converged step (return mapping): unchanged in stick;
 /// in slip moved along the slip so that the elastic part is u_rev.

@@ -42,16 +42,23 @@ Eigen::Vector3d centroid_normal(const Eigen::Vector3d& t, const Eigen::Vector3d&
   return oriented(centroid_direction(t, d, previous), d, previous);
 }
 
+bool lie_on_each_other(const Eigen::Vector3d& ti, const Eigen::Vector3d& tj,
+                       const Eigen::Vector3d& d, double parallel_angle, bool crossing,
+                       double contact_distance)
+{
+  const Eigen::Vector3d N = ti.cross(tj);
+  const double sin_angle = N.norm();
+  return sin_angle > std::sin(parallel_angle)
+         and (crossing or std::abs(d.dot(N)) >= crossing_separation * contact_distance * sin_angle);
+}
+
 Eigen::Vector3d contact_normal(const Eigen::Vector3d& ti, const Eigen::Vector3d& tj,
                                const Eigen::Vector3d& t, const Eigen::Vector3d& d,
                                const Eigen::Vector3d& previous, double parallel_angle,
                                bool crossing, double contact_distance)
 {
-  const Eigen::Vector3d N = ti.cross(tj);
-  const double sin_angle = N.norm();
-  const bool lie_on_each_other
-      = sin_angle > std::sin(parallel_angle)
-        and (crossing or std::abs(d.dot(N)) >= crossing_separation * contact_distance * sin_angle);
-  return lie_on_each_other ? oriented(N, d, previous) : centroid_normal(t, d, previous);
+  return lie_on_each_other(ti, tj, d, parallel_angle, crossing, contact_distance)
+             ? oriented(ti.cross(tj), d, previous)
+             : centroid_normal(t, d, previous);
 }
 } // namespace textile::contact

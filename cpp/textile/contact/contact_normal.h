@@ -19,6 +19,12 @@ Eigen::Vector3d centroid_normal(const Eigen::Vector3d& tangent,
                                 const Eigen::Vector3d& centroid_gap,
                                 const Eigen::Vector3d& previous);
 
+/// Whether contact_normal takes the crossing normal t_i x t_j (the fibres
+/// lie on each other) rather than the centroid direction (see there).
+bool lie_on_each_other(const Eigen::Vector3d& tangent_i, const Eigen::Vector3d& tangent_j,
+                       const Eigen::Vector3d& centroid_gap, double parallel_angle, bool crossing,
+                       double contact_distance);
+
 /// Unit normal N of the plane that shields particle i from particle j,
 /// pointing from fibre j towards fibre i (so gap = N . (x_i - x_j)).
 ///

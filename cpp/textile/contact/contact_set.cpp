@@ -1,9 +1,11 @@
 #include "contact_set.h"
 #include "../assembly/petsc_error.h"
 #include "regularized_penalty.h"
+#include "../geometry_error.h"
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <stdexcept>
 
 namespace textile::contact
@@ -14,7 +16,7 @@ using assembly::check;
 using Clock = std::chrono::steady_clock;
 
 constexpr int dofs_per_node = 9;
-constexpr int max_element_dofs = 3 * dofs_per_node; // a quadratic fibre element
+constexpr int max_element_dofs = max_patch_nodes * dofs_per_node; // a side's patch
 constexpr int max_pair_dofs = 2 * max_element_dofs;
 
 double seconds_since(Clock::time_point t0)
@@ -23,12 +25,12 @@ double seconds_since(Clock::time_point t0)
 }
 
 /// Current unknowns of one fibre element (9 per node) copied from q.
-std::span<const double> gather(const std::array<std::int64_t, 3>& nodes, int num_nodes,
+std::span<const double> gather(const std::array<std::int64_t, max_patch_nodes>& nodes, int num_nodes,
                                std::span<const double> q,
                                std::array<double, max_element_dofs>& buffer)
 {
-  if (num_nodes < 2 or num_nodes > 3)
-    throw std::invalid_argument("ContactSet: a fibre element has 2 or 3 nodes");
+  if (num_nodes < 2 or num_nodes > max_patch_nodes)
+    throw std::invalid_argument("ContactSet: a contact patch has 2 to 5 nodes");
   for (int a = 0; a < num_nodes; ++a)
     std::copy_n(q.data() + dofs_per_node * nodes[a], dofs_per_node,
                 buffer.data() + dofs_per_node * a);
@@ -41,8 +43,8 @@ struct ElementUnknowns
   std::array<double, max_element_dofs> bi, bj;
   std::span<const double> xi, xj;
   ElementUnknowns(const ContactElementState& e, std::span<const double> q)
-      : xi(gather(e.nodes_i, e.particle_i.num_nodes, q, bi)),
-        xj(gather(e.nodes_j, e.particle_j.num_nodes, q, bj))
+      : xi(gather(e.nodes_i, e.particle_i.patch_nodes(), q, bi)),
+        xj(gather(e.nodes_j, e.particle_j.patch_nodes(), q, bj))
   {
   }
   std::size_t size() const { return xi.size() + xj.size(); }
@@ -53,10 +55,10 @@ void element_dofs(const ContactElementState& e, std::span<const std::int32_t> do
                   std::array<std::int32_t, max_pair_dofs>& idx)
 {
   std::size_t k = 0;
-  for (int a = 0; a < e.particle_i.num_nodes; ++a)
+  for (int a = 0; a < e.particle_i.patch_nodes(); ++a)
     for (int d = 0; d < dofs_per_node; ++d)
       idx[k++] = dofs[dofs_per_node * e.nodes_i[a] + d];
-  for (int a = 0; a < e.particle_j.num_nodes; ++a)
+  for (int a = 0; a < e.particle_j.patch_nodes(); ++a)
     for (int d = 0; d < dofs_per_node; ++d)
       idx[k++] = dofs[dofs_per_node * e.nodes_j[a] + d];
 }
@@ -92,7 +94,8 @@ ContactSet::ContactSet(std::vector<ContactElementState> elements, int num_zones)
 }
 
 ContactSet::ContactSet(const ContactSet& other)
-    : _elements(other._elements), _num_zones(other._num_zones), _depth_scale(other._depth_scale)
+    : _elements(other._elements), _num_zones(other._num_zones), _depth_scale(other._depth_scale),
+      _motion_depth(other._motion_depth)
 {
 }
 
@@ -103,6 +106,7 @@ ContactSet& ContactSet::operator=(const ContactSet& other)
     _elements = other._elements;
     _num_zones = other._num_zones;
     _depth_scale = other._depth_scale;
+    _motion_depth = other._motion_depth;
     _blocks = NodeBlockMatrix();
   }
   return *this;
@@ -112,9 +116,14 @@ ContactResult ContactSet::element(const ContactElementState& e, std::span<const 
                                   std::span<const double> xj, std::span<double> r,
                                   std::span<double> K) const
 {
+  // the gap decides the tangent's terms: evaluated once more when asked
+  const bool motion_tangent
+      = K.empty() or _motion_depth == std::numeric_limits<double>::infinity()
+        or -contact_gap(e.particle_i, e.particle_j, e.normal, xi, xj, offset(e), e.motion)
+               <= _motion_depth;
   return contact_element(e.particle_i, e.particle_j, e.normal, element_law(e),
                          e.friction.mu > 0 ? &e.friction : nullptr, e.stick, xi, xj, r, K,
-                         offset(e));
+                         offset(e), e.motion, motion_tangent);
 }
 
 bool ContactSet::take_layout(ContactSet& previous)
@@ -125,8 +134,8 @@ bool ContactSet::take_layout(ContactSet& previous)
   {
     const auto &a = _elements[k], &b = previous._elements[k];
     if (a.nodes_i != b.nodes_i or a.nodes_j != b.nodes_j
-        or a.particle_i.num_nodes != b.particle_i.num_nodes
-        or a.particle_j.num_nodes != b.particle_j.num_nodes)
+        or a.particle_i.patch_nodes() != b.particle_i.patch_nodes()
+        or a.particle_j.patch_nodes() != b.particle_j.patch_nodes())
       return false;
   }
   _blocks = std::move(previous._blocks);
@@ -151,7 +160,7 @@ std::size_t ContactSet::run_kernels(std::span<const double> q)
   for (const auto& e : _elements)
   {
     const ElementUnknowns x(e, q);
-    if (is_open(element_law(e), contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj, offset(e))))
+    if (is_open(element_law(e), contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj, offset(e), e.motion)))
       continue;
     const std::size_t n = x.size();
     _K.resize(n * n);
@@ -169,14 +178,14 @@ std::vector<double> ContactSet::nodal_forces(std::span<const double> q) const
   for (const auto& e : _elements)
   {
     const ElementUnknowns x(e, q);
-    if (is_open(element_law(e), contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj, offset(e))))
+    if (is_open(element_law(e), contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj, offset(e), e.motion)))
       continue;
     element(e, x.xi, x.xj, std::span<double>(r.data(), x.size()), {});
     std::size_t k = 0;
-    for (int a = 0; a < e.particle_i.num_nodes; ++a)
+    for (int a = 0; a < e.particle_i.patch_nodes(); ++a)
       for (int d = 0; d < dofs_per_node; ++d)
         out[dofs_per_node * e.nodes_i[a] + d] += r[k++];
-    for (int a = 0; a < e.particle_j.num_nodes; ++a)
+    for (int a = 0; a < e.particle_j.patch_nodes(); ++a)
       for (int d = 0; d < dofs_per_node; ++d)
         out[dofs_per_node * e.nodes_j[a] + d] += r[k++];
   }
@@ -189,10 +198,14 @@ void ContactSet::assemble_vector(std::span<const double> q, std::span<const std:
   const auto t0 = Clock::now();
   std::array<double, max_pair_dofs> r;
   std::array<std::int32_t, max_pair_dofs> idx;
+  // an element outside its domain (gap_function.h) ends the assembly with
+  // its error once the others are in: callers make the residual infinite
+  std::optional<GeometryError> error;
   for (auto& e : _elements)
+  try
   {
     const ElementUnknowns x(e, q);
-    const double gap = contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj, offset(e));
+    const double gap = contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj, offset(e), e.motion);
     if (is_open(element_law(e), gap))
     {
       e.result = ContactResult{};
@@ -208,7 +221,13 @@ void ContactSet::assemble_vector(std::span<const double> q, std::span<const std:
     check(VecSetValues(b, static_cast<PetscInt>(n), idx.data(), r.data(), ADD_VALUES),
           "VecSetValues");
   }
+  catch (const GeometryError& err)
+  {
+    error = error ? error : err;
+  }
   _timing.total += seconds_since(t0);
+  if (error)
+    throw *error;
 }
 
 void ContactSet::assemble_matrix(std::span<const double> q, std::span<const std::int32_t> dofs,
@@ -222,18 +241,22 @@ void ContactSet::assemble_matrix(std::span<const double> q, std::span<const std:
     std::vector<std::int64_t> nodes;
     for (const auto& e : _elements)
     {
-      nodes.insert(nodes.end(), e.nodes_i.begin(), e.nodes_i.begin() + e.particle_i.num_nodes);
-      nodes.insert(nodes.end(), e.nodes_j.begin(), e.nodes_j.begin() + e.particle_j.num_nodes);
+      nodes.insert(nodes.end(), e.nodes_i.begin(), e.nodes_i.begin() + e.particle_i.patch_nodes());
+      nodes.insert(nodes.end(), e.nodes_j.begin(), e.nodes_j.begin() + e.particle_j.patch_nodes());
       offsets.push_back(nodes.size());
     }
     _blocks.build(offsets, nodes, dofs);
   }
   std::array<double, max_pair_dofs> r;
+  // an element outside its domain: the others are inserted (the insertion
+  // is collective), then its error is raised
+  std::optional<GeometryError> error;
   for (std::size_t k = 0; k < _elements.size(); ++k)
+  try
   {
-    const auto& e = _elements[k];
+    auto& e = _elements[k];
     const ElementUnknowns x(e, q);
-    if (is_open_in_tangent(element_law(e), contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj, offset(e))))
+    if (is_open_in_tangent(element_law(e), contact_gap(e.particle_i, e.particle_j, e.normal, x.xi, x.xj, offset(e), e.motion)))
       continue;
     const std::size_t n = x.size();
     _K.resize(n * n); // the kernel overwrites it
@@ -243,11 +266,17 @@ void ContactSet::assemble_matrix(std::span<const double> q, std::span<const std:
     ++_timing.kernel_calls;
     _blocks.add(k, _K);
   }
+  catch (const GeometryError& err)
+  {
+    error = error ? error : err;
+  }
   const auto before = _blocks.off_rank_counts();
   _blocks.insert(A);
   _timing.off_rank_sent += _blocks.off_rank_counts().sent - before.sent;
   _timing.off_rank_stashed += _blocks.off_rank_counts().stashed - before.stashed;
   _timing.total += seconds_since(t0);
+  if (error)
+    throw *error;
 }
 
 Eigen::Vector3d ContactSet::elastic_slip(const ContactElementState& e) const
@@ -326,6 +355,13 @@ std::vector<double> ContactSet::zone_crossed() const
   for (const auto& e : _elements)
     out[e.zone] += e.result.separation < 0;
   return out;
+}
+
+void ContactSet::set_motion_depth(double depth)
+{
+  if (!(depth > 0))
+    throw std::invalid_argument("ContactSet::set_motion_depth: depth must be positive");
+  _motion_depth = depth;
 }
 
 void ContactSet::set_tangent_floor(double fraction)

@@ -22,6 +22,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <utility>
 #include <vector>
@@ -53,10 +54,15 @@ struct ContactElementState
   int zone = 0;                  ///< proximity zone of this pass
   bool crossing = false;         ///< the element of a crossing (else of a line contact)
   bool wrap = false;             ///< an element of a wrap (wrap_contact.h)
-  std::array<std::int64_t, 3> nodes_i{-1, -1, -1}; ///< global nodes of the element on fibre i
-  std::array<std::int64_t, 3> nodes_j{-1, -1, -1}; ///< and on fibre j
+  /// global nodes of the patch (particle.h) on fibre i, and on fibre j
+  std::array<std::int64_t, max_patch_nodes> nodes_i{-1, -1, -1, -1, -1};
+  std::array<std::int64_t, max_patch_nodes> nodes_j{-1, -1, -1, -1, -1};
+  /// first node of the particle's element (which rank evaluates the element)
+  std::int64_t element_node_i() const { return nodes_i[particle_i.node_offset()]; }
+  std::int64_t element_node_j() const { return nodes_j[particle_j.node_offset()]; }
   Particle particle_i, particle_j;
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(); ///< from j towards i
+  GapMotion motion; ///< how the gap moves with the unknowns in Newton (gap_function.h)
   double length = 0;         ///< contact length it stands for (length, see above)
   double penalty = 0;        ///< k_c per unit length (force/length^2, see above)
   double regularization = 0; ///< g_r (length)
@@ -160,6 +166,18 @@ public:
   /// the first Newton iterate (which a step cut could not make smaller).
   void set_depth_scale(double scale);
 
+  /// Newton's tangents keep the terms of the points' motion (gap_function.h:
+  /// following and facing elements) only for elements closed by at most
+  /// `depth` (length, > 0; infinite by default). Deeper ones are far from a
+  /// contact Newton can settle (the penalty adaptation keeps penetrations
+  /// within its band): their force, R_N times those terms, outweighs the
+  /// fibres' stiffness and makes the tangent indefinite (coplanar yarns
+  /// pushed apart by ordinary contact from 2 radii of interpenetration:
+  /// folded elements in 3 Newton iterations, tests/contact/
+  /// test_coplanar_fibres.py), so they get the tangent of points held
+  /// where they are. Changes Newton's path, never the converged answer.
+  void set_motion_depth(double depth);
+
   /// Every element's tangent floor (a fraction of its penalty in [0, 1],
   /// regularized_penalty.h): what Newton's next tangents keep near gap = 0.
   void set_tangent_floor(double fraction);
@@ -183,6 +201,7 @@ private:
   std::vector<ContactElementState> _elements;
   int _num_zones = 0;
   double _depth_scale = 0;
+  double _motion_depth = std::numeric_limits<double>::infinity();
   NodeBlockMatrix _blocks; // layout of the tangent's node blocks (built on demand)
   std::vector<double> _K;  // scratch tangent of one element
   Timing _timing;

@@ -10,7 +10,7 @@ std::vector<CouplingPattern::Coupling> CouplingPattern::near(const ContactSet& s
   std::vector<Coupling> out;
   for (const auto& e : set.elements())
     if (e.result.gap <= margin)
-      out.push_back({e.nodes_i[0], e.nodes_j[0], e.particle_i.num_nodes, e.particle_j.num_nodes});
+      out.push_back({e.nodes_i[0], e.nodes_j[0], e.particle_i.patch_nodes(), e.particle_j.patch_nodes()});
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;

@@ -8,7 +8,8 @@ namespace textile::contact
 {
 Detection detect(const Centrelines& c, const SectionVectors& g, double delta_factor,
                  double self_exclusion, double spacing, double parallel_angle,
-                 const WeavingOrder* weaving, std::span<const ZoneMark> previous)
+                 const WeavingOrder* weaving, std::span<const ZoneMark> previous,
+                 bool keep_kinds)
 {
   Detection d;
   d.zones = find_proximity_zones(c, delta_factor, self_exclusion);
@@ -34,10 +35,18 @@ Detection detect(const Centrelines& c, const SectionVectors& g, double delta_fac
         was_crossing = was_crossing or m.kind == ZoneKind::crossing;
         was_line = was_line or m.kind == ZoneKind::line;
       }
-    const double wrap_angle = ordered ? -1.0 : was_wrap ? 0.5 * parallel_angle : parallel_angle;
+    double wrap_angle = ordered ? -1.0 : was_wrap ? 0.5 * parallel_angle : parallel_angle;
     // a zone that was a point contact (crossing or wrap) stays one with a
     // margin; a line contact alone becomes one only past the margin
-    const double bias = (was_crossing or was_wrap) ? crossing_bias : was_line ? -crossing_bias : 0.0;
+    double bias = (was_crossing or was_wrap) ? crossing_bias : was_line ? -crossing_bias : 0.0;
+    if (keep_kinds and (was_crossing or was_wrap or was_line))
+    {
+      // within a step: the same kind outright (a bias of 1 accepts any angle
+      // and any ends for a crossing, -1 none short of twice the criteria)
+      bias = (was_crossing or was_wrap) ? 1.0 : -1.0;
+      if (!ordered)
+        wrap_angle = was_wrap ? 0.0 : -1.0;
+    }
     for (auto& p : contact_points(c, g, zone, spacing, parallel_angle, delta_factor,
                                   Eigen::Vector3d::Zero(), wrap_angle, bias))
     {
@@ -59,8 +68,15 @@ ContactElementState restore_element(const Centrelines& c, const SavedElement& sa
                        .crossing = saved.crossing, .wrap = saved.wrap,
                        .length = saved.length};
   ContactElementState e = make_element(c, p, saved.zone, saved.normal, saved.penalty, g_r,
-                                       friction, Eigen::Vector3d::Zero(), q);
+                                       friction, Eigen::Vector3d::Zero(), q, saved.gap_kind);
   e.stick = saved.stick;
+  // an element kept over passes within a step (history_transfer.h, persist)
+  // saw the geometry of an earlier pass
+  if (e.motion.kind != GapKind::held and saved.tangent_i.squaredNorm() > 0)
+  {
+    e.motion.tangent_i = saved.tangent_i;
+    e.motion.tangent_j = saved.tangent_j;
+  }
   return e;
 }
 
@@ -80,11 +96,39 @@ std::vector<ZoneMark> zone_marks(const ContactSet& set)
   return out;
 }
 
-ContactElementState make_element(const Centrelines& c, const ContactPoint& p, int zone,
+namespace
+{
+/// The patch of fibre f a side is evaluated on (particle.h): the element
+/// holding abscissa s, and with `two` its neighbour across the nearer
+/// interior node.
+void set_patch(const Centrelines& c, int f, double s, bool two, Particle& p,
+               std::array<std::int64_t, max_patch_nodes>& nodes)
+{
+  std::array<std::int64_t, 3> element;
+  element_of(c, f, s, element);
+  const int node = static_cast<int>(std::lround(s));
+  nodes.fill(-1);
+  if (two and node > 0 and node < c.num_elements(f))
+  {
+    p.patch_elements = 2;
+    p.patch_position = element[0] == c.fibre_offsets[f] + std::int64_t(c.order) * node ? 1 : 0;
+    for (int a = 0; a <= 2 * c.order; ++a)
+      nodes[a] = c.fibre_offsets[f] + std::int64_t(c.order) * (node - 1) + a;
+    return;
+  }
+  p.patch_elements = 1;
+  p.patch_position = 0;
+  std::copy(element.begin(), element.begin() + c.order + 1, nodes.begin());
+}
+} // namespace
+
+ContactElementState make_element(const Centrelines& c, const ContactPoint& point, int zone,
                                  const Eigen::Vector3d& normal, double penalty, double g_r,
                                  const RegularizedCoulomb& friction,
-                                 const Eigen::Vector3d& elastic_slip, std::span<const double> q)
+                                 const Eigen::Vector3d& elastic_slip, std::span<const double> q,
+                                 GapKind gap_kind)
 {
+  const ContactPoint& p = point;
   ContactElementState e;
   e.fibre_i = p.fibre_i;
   e.fibre_j = p.fibre_j;
@@ -95,22 +139,35 @@ ContactElementState make_element(const Centrelines& c, const ContactPoint& p, in
   e.wrap = p.wrap;
   e.length = p.length;
   const int nn = c.order + 1;
-  e.particle_i = {nn, element_of(c, p.fibre_i, p.s_i, e.nodes_i), p.xi1_i, p.xi2_i,
+  std::array<std::int64_t, 3> element_nodes;
+  e.particle_i = {nn, element_of(c, p.fibre_i, p.s_i, element_nodes), p.xi1_i, p.xi2_i,
                   c.radius[p.fibre_i]};
-  e.particle_j = {nn, element_of(c, p.fibre_j, p.s_j, e.nodes_j), p.xi1_j, p.xi2_j,
+  e.particle_j = {nn, element_of(c, p.fibre_j, p.s_j, element_nodes), p.xi1_j, p.xi2_j,
                   c.radius[p.fibre_j]};
+  // a crossing's point moves within Newton: on the element and its
+  // neighbour across the nearer node (particle.h)
+  const bool moving_point = gap_kind == GapKind::facing;
+  set_patch(c, p.fibre_i, p.s_i, moving_point, e.particle_i, e.nodes_i);
+  set_patch(c, p.fibre_j, p.s_j, moving_point, e.particle_j, e.nodes_j);
   e.normal = normal;
+  e.motion.kind = gap_kind;
+  if (gap_kind != GapKind::held)
+  {
+    // dx0/dxi: the blended direction, the element's length per xi
+    e.motion.tangent_i = 0.5 * c.tangent(p.fibre_i, p.s_i).norm() * blended_tangent(c, p.fibre_i, p.s_i);
+    e.motion.tangent_j = 0.5 * c.tangent(p.fibre_j, p.s_j).norm() * blended_tangent(c, p.fibre_j, p.s_j);
+  }
   e.penalty = penalty;
   e.regularization = g_r;
   e.friction = friction;
   // the stick point that reproduces the carried elastic slip
   std::vector<double> xi, xj;
-  for (int a = 0; a < nn; ++a)
+  for (int a = 0; a < e.particle_i.patch_nodes(); ++a)
     for (int k = 0; k < 9; ++k)
-    {
       xi.push_back(q[9 * e.nodes_i[a] + k]);
+  for (int a = 0; a < e.particle_j.patch_nodes(); ++a)
+    for (int k = 0; k < 9; ++k)
       xj.push_back(q[9 * e.nodes_j[a] + k]);
-    }
   const Eigen::Vector3d delta = particle_position(e.particle_i, xi)
                                 - particle_position(e.particle_j, xj);
   const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - normal * normal.transpose();

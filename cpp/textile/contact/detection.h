@@ -57,6 +57,17 @@ std::vector<ZoneMark> zone_marks(const ContactSet& set);
 /// criterion fails by a margin, and a line contact becomes a crossing only
 /// past a margin (crossing_bias); a crossing pressed deep next to a fibre
 /// end would otherwise flip to a line contact of many elements and back.
+/// `keep_kinds` (the passes within a step after its first): a zone the
+/// last pass had keeps its kind outright (crossing, wrap or line contact),
+/// as its line contacts keep their elements (history_transfer.h, persist);
+/// a step's first pass sees the last pass's kind with margins (the penalty
+/// continuity test's switch shows one step later,
+/// tests/contact/test_penalty_units.py). Each kind makes the
+/// fibres take the shape that calls for the other (pressed at a point, a
+/// fibre bent over another kinks past the wrap criterion; spread along a
+/// wrap, it straightens below its hysteresis), and near a picture frame's
+/// locking a crossing and a wrap took turns from pass to pass until the
+/// step was cut; between steps the criteria decide again.
 /// Pairs that `weaving` orders (weaving_order.h) keep point crossings,
 /// never wraps: their vertical normal measures the
 /// penetration through the crossing, while along a wrap, away from it, the
@@ -64,7 +75,7 @@ std::vector<ZoneMark> zone_marks(const ContactSet& set);
 Detection detect(const Centrelines& c, const SectionVectors& g, double delta_factor,
                  double self_exclusion, double spacing, double parallel_angle,
                  const WeavingOrder* weaving = nullptr,
-                 std::span<const ZoneMark> previous = {});
+                 std::span<const ZoneMark> previous = {}, bool keep_kinds = false);
 
 /// A contact element rebuilt from its saved values (a saved state, see
 /// FibreContact.save_state): fibres, abscissas and section coordinates of
@@ -81,6 +92,9 @@ struct SavedElement
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   double length = 0, penalty = 0;
   Eigen::Vector3d stick = Eigen::Vector3d::Zero();
+  GapKind gap_kind = GapKind::held; ///< gap_function.h
+  /// the tangents its pass saw (GapMotion); zero: from the geometry at q
+  Eigen::Vector3d tangent_i = Eigen::Vector3d::Zero(), tangent_j = Eigen::Vector3d::Zero();
 };
 
 ContactElementState restore_element(const Centrelines& c, const SavedElement& saved, double g_r,
@@ -94,9 +108,13 @@ ContactElementState restore_element(const Centrelines& c, const SavedElement& sa
 /// @param friction     Coulomb law (mu = 0: none)
 /// @param elastic_slip carried tangential elastic slip (zero for a new element)
 /// @param q            current [x0, g1, g2] of all nodes (9 per node)
+/// @param gap_kind     how the gap moves within Newton (gap_function.h); a
+///                     following one measures in the plane orthogonal to the
+///                     mean of the fibres' tangents at the particles
 ContactElementState make_element(const Centrelines& c, const ContactPoint& p, int zone,
                                  const Eigen::Vector3d& normal, double penalty, double g_r,
                                  const RegularizedCoulomb& friction,
-                                 const Eigen::Vector3d& elastic_slip, std::span<const double> q);
+                                 const Eigen::Vector3d& elastic_slip, std::span<const double> q,
+                                 GapKind gap_kind = GapKind::held);
 
 } // namespace textile::contact

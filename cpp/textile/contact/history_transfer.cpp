@@ -3,6 +3,7 @@
 #include "contact_normal.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -25,6 +26,17 @@ std::uint64_t pair_element_key(int fibre_i, int fibre_j, std::int64_t element)
 }
 
 std::int64_t element_index(double s) { return static_cast<std::int64_t>(std::floor(s)); }
+
+/// Abscissa on fibre f of patch coordinate xi (particle.h) of a patch whose
+/// first node is `first_node`.
+double measured_abscissa(const Centrelines& c, int f, std::int64_t first_node, double xi)
+{
+  return double(first_node - c.fibre_offsets[f]) / c.order + 0.5 * (xi + 1.0);
+}
+
+/// Is abscissa s one of fibre f's ends?
+bool at_fibre_end(const Centrelines& c, int f, double s) { return s <= 0 or s >= c.num_elements(f); }
+
 } // namespace
 
 std::vector<int> match_history(std::span<const ContactPoint> points,
@@ -108,6 +120,7 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
                         std::vector<int>(nz, std::numeric_limits<int>::max()),
                         std::vector<int>(nz, -1), std::vector<int>(nz, 0)};
   std::vector<ContactElementState> elements;
+  std::vector<char> claimed(previous.size(), 0); // old line elements kept (persist)
   for (std::size_t k = 0; k < points.size(); ++k)
   {
     if (!keep[k])
@@ -122,7 +135,7 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
       zones.previous_zone_max[z] = std::max(zones.previous_zone_max[z], from->zone);
       zones.changed_kind[z] |= from->crossing != p.crossing;
     }
-    std::array<std::int64_t, 3> nodes, nodes_j;
+    std::array<std::int64_t, 3> nodes, nodes_j; // of the particles' elements
     element_of(c, p.fibre_i, p.s_i, nodes);
     element_of(c, p.fibre_j, p.s_j, nodes_j);
     if (!evaluated_here(p.fibre_i, p.fibre_j, nodes[0], nodes_j[0], owned))
@@ -131,15 +144,35 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
         = from and !par.reset_normals ? from->normal : Eigen::Vector3d::Zero();
     const int order = par.weaving ? par.weaving->sign(p.fibre_i, p.fibre_j) : 0;
     Eigen::Vector3d normal;
+    GapKind kind = GapKind::held;
     if (order != 0)
     {
       normal = order * Eigen::Vector3d::UnitZ();
       place_particles(c, SectionVectors{q, 9, 3}, p, -normal);
+      if (p.crossing) // at the vertical crossing: it moves with the fibres
+        kind = GapKind::facing;
     }
     else if (p.held_normal.squaredNorm() > 0)
       normal = p.held_normal; // the fibres have crossed along it: keep it
     else if (p.wrap)
       normal = centroid_normal(p.tangent, p.centroid_gap, previous_normal);
+    else if (!p.crossing)
+    {
+      // a line contact: the centroid direction in the section plane,
+      // following the centre lines as they roll around each other
+      normal = centroid_normal(p.tangent, p.centroid_gap, previous_normal);
+      kind = GapKind::following;
+    }
+    else if ((at_fibre_end(c, p.fibre_i, p.s_i) or at_fibre_end(c, p.fibre_j, p.s_j)))
+    {
+      // a fibre's end next to another fibre: they do not cross, the end
+      // stops short of it; t_i x t_j would read the height between them as
+      // the gap, however far apart they are in the plane (a picture
+      // frame's yarn end 3.8 R from its neighbour "touched" it), and the
+      // centroids' direction measures the real distance
+      normal = centroid_normal(p.tangent, p.centroid_gap, previous_normal);
+      kind = GapKind::facing;
+    }
     else
     {
       normal = contact_normal(p.tangent_i, p.tangent_j, p.tangent, p.centroid_gap,
@@ -151,10 +184,25 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
       // growing period-2 swing); halving the turn keeps the fixed point
       if (relocated[k])
         normal = (from->normal + normal).normalized();
+      kind = GapKind::facing;
+    }
+    if (par.persist and kind == GapKind::following and from and from->motion.kind == kind
+        and !claimed[match[k]]
+        and std::abs(from->s_i - measured_abscissa(c, from->fibre_i, from->nodes_i[0],
+                                                   from->result.gap_xi[0]))
+                + std::abs(from->s_j - measured_abscissa(c, from->fibre_j, from->nodes_j[0],
+                                                         from->result.gap_xi[1]))
+            <= persist_drift)
+    {
+      claimed[match[k]] = 1;
+      ContactElementState e = *from;
+      e.zone = z;
+      elements.push_back(e);
+      continue;
     }
     const Eigen::Vector3d slip = from ? old.elastic_slip(*from) : Eigen::Vector3d::Zero();
     elements.push_back(make_element(c, p, z, normal, from ? from->penalty : par.penalty,
-                                    par.regularization, par.friction, slip, q));
+                                    par.regularization, par.friction, slip, q, kind));
   }
   return {ContactSet(std::move(elements), static_cast<int>(nz)), std::move(zones)};
 }

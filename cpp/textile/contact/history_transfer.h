@@ -48,6 +48,12 @@ struct ZoneInheritance
                                         ///< kind (crossing vs line contact)
 };
 
+/// How far (|u - u0| + |v - v0| in abscissas, element lengths) a line
+/// contact's points may have slid from its pass's particles for it to be
+/// kept within a step (ElementParameters::persist): a fifth of what a fibre
+/// sliding over an arc moves in a step (tests/contact/test_frictionless_drag.py).
+inline constexpr double persist_drift = 0.01;
+
 /// Parameters of the elements a pass makes.
 struct ElementParameters
 {
@@ -67,6 +73,24 @@ struct ElementParameters
   /// way (vertical_crossing.h): woven fibres are bent around each other.
   /// nullptr: closest points, as detection found them.
   const WeavingOrder* woven = nullptr;
+  /// Within a load step (the passes after its first): a line contact found
+  /// again keeps that element (particles, plane, normal; only its zone
+  /// renumbered) while its points, which move within Newton
+  /// (gap_function.h: following), are within persist_drift of where its
+  /// pass put them. Placed anew, a line contact's points move with the
+  /// zone's ends from pass to pass, over a penetration that varies along
+  /// the line, and the contact forces of a stacked yarn swing by a percent
+  /// between two places for ever. The first pass of a step places every
+  /// element from the geometry again, and so does any pass for an element
+  /// whose points slid further (a fibre sliding over a curved one: kept,
+  /// the elements' planes lag behind the curve and drag it, 1e-3 of its
+  /// tension instead of 2e-4, tests/contact/test_frictionless_drag.py).
+  /// Crossings are placed anew at every pass: their normals converge over
+  /// the passes (a woven crossing's turns half way each pass), and kept
+  /// they stop at the step's first (a woven monofilament fabric's tension
+  /// stiffness 7% off its crimp-interchange model instead of 1.6%,
+  /// tests/virtual/test_fabric_references.py).
+  bool persist = false;
 };
 
 /// The contact set of detection pass d at state q (all nodes, 9 unknowns

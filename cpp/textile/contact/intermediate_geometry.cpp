@@ -53,7 +53,7 @@ constexpr double kink_angle = 1e-3;
 Eigen::Vector3d intermediate_point(const Centrelines& c, const ProximityZone& z, double s)
 {
   return 0.5 * (c.position(z.fibre_i, along(z.a_i, z.b_i, s))
-                + c.position(z.fibre_j, along(z.a_j, z.b_j, s)));
+                + c.position(z.fibre_j, z.along_j(s)));
 }
 } // namespace
 
@@ -204,8 +204,8 @@ bool is_crossing(const Centrelines& c, const ProximityZone& z, double parallel_a
   // together stay close up to a fibre end, whatever their angle.
   const double delta = delta_factor * (c.radius[z.fibre_i] + c.radius[z.fibre_j]);
   const double threshold = z.min_distance + (0.5 - bias) * (delta - z.min_distance);
-  const double d0 = (c.position(z.fibre_i, z.a_i) - c.position(z.fibre_j, z.a_j)).norm();
-  const double d1 = (c.position(z.fibre_i, z.b_i) - c.position(z.fibre_j, z.b_j)).norm();
+  const double d0 = (c.position(z.fibre_i, z.a_i) - c.position(z.fibre_j, z.along_j(0.0))).norm();
+  const double d1 = (c.position(z.fibre_i, z.b_i) - c.position(z.fibre_j, z.along_j(1.0))).norm();
   return d0 > threshold and d1 > threshold;
 }
 
@@ -296,7 +296,10 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
     // fails; and the forces do not depend on `spacing`.
     std::vector<double> cuts;
     add_element_cuts(z.a_i, z.b_i, cuts);
-    add_element_cuts(z.a_j, z.b_j, cuts);
+    std::vector<double> cuts_j;
+    add_element_cuts(z.a_j, z.b_j, cuts_j);
+    for (double f : cuts_j)
+      cuts.push_back(z.reversed ? 1.0 - f : f);
     std::vector<double> weights;
     std::tie(params, weights) = composite_gauss_rule(std::move(cuts), length, spacing);
     for (double w : weights)
@@ -328,9 +331,9 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
     }
     else
     {
-      const double si0 = along(z.a_i, z.b_i, p.parameter), sj0 = along(z.a_j, z.b_j, p.parameter);
+      const double si0 = along(z.a_i, z.b_i, p.parameter), sj0 = z.along_j(p.parameter);
       const Eigen::Vector3d point = intermediate_point(c, z, p.parameter);
-      p.tangent = mean_tangent(unit_tangent(c, z.fibre_i, si0), unit_tangent(c, z.fibre_j, sj0));
+      p.tangent = mean_tangent(blended_tangent(c, z.fibre_i, si0), blended_tangent(c, z.fibre_j, sj0));
       p.s_i = section_cut(c, z.fibre_i, point, p.tangent, si0);
       p.s_j = section_cut(c, z.fibre_j, point, p.tangent, sj0);
       // The section plane is orthogonal to the mean of the tangents where it
@@ -342,8 +345,8 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
       // fibre sliding over a curved one (stability issue item 8).
       for (int pass = 0; pass < max_section_passes; ++pass)
       {
-        const Eigen::Vector3d t = mean_tangent(unit_tangent(c, z.fibre_i, p.s_i),
-                                               unit_tangent(c, z.fibre_j, p.s_j));
+        const Eigen::Vector3d t = mean_tangent(blended_tangent(c, z.fibre_i, p.s_i),
+                                               blended_tangent(c, z.fibre_j, p.s_j));
         const bool settled = (t - p.tangent).norm() < 1e-12;
         p.tangent = t;
         if (settled)
@@ -352,8 +355,8 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
         p.s_j = section_cut(c, z.fibre_j, point, p.tangent, p.s_j);
       }
     }
-    p.tangent_i = unit_tangent(c, z.fibre_i, p.s_i);
-    p.tangent_j = unit_tangent(c, z.fibre_j, p.s_j);
+    p.tangent_i = crossing ? unit_tangent(c, z.fibre_i, p.s_i) : blended_tangent(c, z.fibre_i, p.s_i);
+    p.tangent_j = crossing ? unit_tangent(c, z.fibre_j, p.s_j) : blended_tangent(c, z.fibre_j, p.s_j);
     p.centroid_gap = c.position(z.fibre_i, p.s_i) - c.position(z.fibre_j, p.s_j);
     // direction from i towards j for particle i, and back for j
     Eigen::Vector3d d = -p.centroid_gap;

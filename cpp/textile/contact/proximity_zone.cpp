@@ -290,7 +290,13 @@ std::vector<ProximityZone> find_proximity_zones(const Centrelines& c, double del
   check_parameters(delta_factor, self_exclusion);
   const std::vector<Segment> segments = make_segments(c);
   const std::vector<ClosePair> pairs = find_close_pairs(c, segments, delta_factor, self_exclusion);
-  return group_into_zones(segments, pairs);
+  std::vector<ProximityZone> zones = group_into_zones(segments, pairs);
+  // the legs of a hairpin, or a fibre looping back along another, run
+  // against each other: pairing a_i with a_j folds the intermediate
+  // geometry onto one point (all of a self-contact's elements at one place)
+  for (ProximityZone& z : zones)
+    z.reversed = c.tangent(z.fibre_i, z.s_i).dot(c.tangent(z.fibre_j, z.s_j)) < 0;
+  return zones;
 }
 
 } // namespace textile::contact

@@ -43,6 +43,17 @@ struct ProximityZone
   double a_j = 0, b_j = 0;        ///< interval on fibre_j, a_j <= b_j
   double min_distance = 0;        ///< smallest centre-line distance in the zone (length)
   double s_i = 0, s_j = 0;        ///< abscissas where min_distance is reached
+  /// fibre j runs against fibre i there (their tangents at s_i, s_j point
+  /// apart): the zone pairs a_i with b_j and b_i with a_j
+  bool reversed = false;
+
+  /// Abscissa on fibre j paired with fraction t in [0, 1] of the zone
+  /// (t = 0 at a_i on fibre i).
+  double along_j(double t) const
+  {
+    const double u = reversed ? 1.0 - t : t;
+    return (1.0 - u) * a_j + u * b_j;
+  }
 };
 
 /// Closest points of segments P(t) = p0 + t (p1 - p0) and

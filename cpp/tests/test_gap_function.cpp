@@ -1,0 +1,383 @@
+// The gap function of a contact element (gap_function.h): its gradient and
+// Hessian against central finite differences for each gap kind, and what
+// each kind measures.
+#include "fd.h"
+#include <textile/contact/contact_element.h>
+#include <textile/contact/gap_function.h>
+#include <textile/beam/shape_functions.h>
+#include <textile/contact/regularized_penalty.h>
+#include <textile/geometry_error.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace textile;
+using namespace textile::contact;
+
+namespace
+{
+/// Nodal unknowns of an element of num_nodes nodes along t through c, bent
+/// by `bow` (the middle node moved along b), sections of radius 1 in
+/// (g1, g2) = (b, t x b) perturbed by `noise` (relative).
+std::vector<double> element(int num_nodes, const Eigen::Vector3d& c, const Eigen::Vector3d& t,
+                            const Eigen::Vector3d& b, double len, double bow, std::mt19937& gen,
+                            double noise)
+{
+  std::uniform_real_distribution<double> U(-1, 1);
+  std::vector<double> x;
+  const Eigen::Vector3d g1 = b.normalized(), g2 = t.cross(g1).normalized();
+  for (int a = 0; a < num_nodes; ++a)
+  {
+    const double xi = num_nodes == 3 ? a - 1.0 : 2.0 * a - 1.0;
+    const Eigen::Vector3d p = c + xi * 0.5 * len * t + (1 - xi * xi) * bow * b;
+    for (const Eigen::Vector3d& v : {p, g1, g2})
+      for (int k = 0; k < 3; ++k)
+        x.push_back(v(k) + noise * len * U(gen));
+  }
+  return x;
+}
+
+struct Case
+{
+  const char* name;
+  GapKind kind;
+  int num_nodes;
+  double angle; // between the fibres (deg)
+};
+
+class GapDerivatives : public ::testing::TestWithParam<Case>
+{
+};
+} // namespace
+
+TEST_P(GapDerivatives, MatchCentralFiniteDifferences)
+{
+  const Case cs = GetParam();
+  std::mt19937 gen(11);
+  const double R = 0.01, a = cs.angle * M_PI / 180.0, len = 0.1;
+  const Eigen::Vector3d ti(1, 0, 0), tj(std::cos(a), std::sin(a), 0);
+  // fibre i above fibre j, interpenetrating, both bent
+  const auto xi = element(cs.num_nodes, Eigen::Vector3d(0.003, 0.002, 1.2 * R), ti,
+                          Eigen::Vector3d(0, 0.3, 1), len, 0.2 * R, gen, 1e-3);
+  const auto xj = element(cs.num_nodes, Eigen::Vector3d(0, 0, 0), tj, Eigen::Vector3d(0.2, 0, 1),
+                          len, -0.3 * R, gen, 1e-3);
+  const Eigen::Vector3d N = Eigen::Vector3d(0.05, -0.02, 1).normalized();
+  const Particle pi{cs.num_nodes, 0.1, 0.0, -R, R}, pj{cs.num_nodes, -0.05, 0.0, R, R};
+  const GapMotion motion{cs.kind, ti, tj};
+  std::vector<double> x(xi);
+  x.insert(x.end(), xj.begin(), xj.end());
+  const std::size_t n = x.size(), ni = xi.size();
+  auto gap_of = [&](const std::vector<double>& y)
+  {
+    return GapFunction(pi, pj, N, motion, std::span(y.data(), ni),
+                       std::span(y.data() + ni, n - ni), 2e-4, false)
+        .gap();
+  };
+  auto gradient_of = [&](const std::vector<double>& y)
+  {
+    const GapFunction g(pi, pj, N, motion, std::span(y.data(), ni),
+                        std::span(y.data() + ni, n - ni), 2e-4, true);
+    return std::vector<double>(g.gradient().data(), g.gradient().data() + n);
+  };
+  const GapFunction g(pi, pj, N, motion, std::span(x.data(), ni), std::span(x.data() + ni, n - ni),
+                      2e-4, true);
+  ASSERT_LT(g.gap(), 0.0);
+  // facing and following move both points, held none
+  EXPECT_EQ(g.patch_xi_i() != pi.xi, cs.kind != GapKind::held);
+  EXPECT_EQ(g.patch_xi_j() != pj.xi, cs.kind != GapKind::held);
+  // gradient: central differences of the gap
+  std::vector<double> fd_gradient(n);
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    auto yp = x, ym = x;
+    yp[k] += 1e-7;
+    ym[k] -= 1e-7;
+    fd_gradient[k] = (gap_of(yp) - gap_of(ym)) / 2e-7;
+  }
+  const std::vector<double> G(g.gradient().data(), g.gradient().data() + n);
+  EXPECT_LT(test::relative_error(G, fd_gradient), 1e-7);
+  // Hessian: central differences of the gradient
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> H
+      = Eigen::MatrixXd::Zero(n, n);
+  g.add_hessian(1.0, H);
+  const std::vector<double> Hv(H.data(), H.data() + n * n);
+  EXPECT_LT(test::relative_error(Hv, test::fd_jacobian(gradient_of, x, 1e-7)), 1e-6);
+  // symmetric: the second derivative of one function
+  EXPECT_LT((H - H.transpose()).norm(), 1e-9 * H.norm());
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Kinds, GapDerivatives,
+    ::testing::Values(Case{"held_crossing", GapKind::held, 3, 70.0},
+                      Case{"facing_crossing", GapKind::facing, 3, 70.0},
+                      Case{"facing_linear_elements", GapKind::facing, 2, 40.0},
+                      Case{"facing_shallow", GapKind::facing, 3, 15.0},
+                      Case{"following_parallel", GapKind::following, 3, 0.0},
+                      Case{"following_at_an_angle", GapKind::following, 3, 8.0},
+                      Case{"following_linear_elements", GapKind::following, 2, 3.0}),
+    [](const auto& info) { return std::string(info.param.name); });
+
+TEST(GapFunction, FollowingMeasuresTheDistanceInTheSectionPlane)
+{
+  // fibre i parallel to j, R = 1 each, centre lines 1.9 apart along a
+  // direction 30 deg off the held normal N = z: held measures along z,
+  // following measures the true distance
+  const double R = 1.0, d = 1.9, phi = M_PI / 6;
+  const Eigen::Vector3d t(1, 0, 0), off(0, d * std::sin(phi), d * std::cos(phi));
+  std::mt19937 gen(3);
+  const auto xi = element(3, off, t, Eigen::Vector3d(0, 0, 1), 10.0, 0.0, gen, 0.0);
+  const auto xj = element(3, Eigen::Vector3d::Zero(), t, Eigen::Vector3d(0, 0, 1), 10.0, 0.0, gen, 0.0);
+  const Particle pi{3, 0.2, 0, -R, R}, pj{3, 0.2, 0, R, R};
+  const Eigen::Vector3d N = Eigen::Vector3d::UnitZ();
+  const GapFunction held(pi, pj, N, {GapKind::held}, xi, xj, 0.0, false);
+  const GapFunction following(pi, pj, N, {GapKind::following, t, t}, xi, xj, 0.0, false);
+  EXPECT_NEAR(held.gap(), d * std::cos(phi) - 2 * R, 1e-12);
+  EXPECT_NEAR(following.gap(), d - 2 * R, 1e-12);
+  EXPECT_NEAR(following.separation(), d * std::cos(phi), 1e-12); // along N: the side kept
+}
+
+TEST(GapFunction, FacingFindsWhereTheCentreLinesFaceEachOther)
+{
+  // two straight fibres crossing at right angles, 1.8 apart vertically:
+  // from particles placed off the crossing, the facing point is at it
+  const double R = 1.0;
+  std::mt19937 gen(3);
+  const auto xi = element(3, Eigen::Vector3d(0.3, 0, 1.8), Eigen::Vector3d(1, 0, 0),
+                          Eigen::Vector3d(0, 0, 1), 4.0, 0.0, gen, 0.0);
+  const auto xj = element(3, Eigen::Vector3d(0, -0.5, 0), Eigen::Vector3d(0, 1, 0),
+                          Eigen::Vector3d(0, 0, 1), 4.0, 0.0, gen, 0.0);
+  const Particle pi{3, 0.4, 0, -R, R}, pj{3, -0.3, 0, R, R};
+  const GapFunction g(pi, pj, Eigen::Vector3d::UnitZ(), {GapKind::facing}, xi, xj, 0.0, false);
+  EXPECT_NEAR(g.patch_xi_i(), -0.15, 1e-12); // x = 0.3 + 2 xi = 0
+  EXPECT_NEAR(g.patch_xi_j(), 0.25, 1e-12);  // y = -0.5 + 2 xi = 0
+  EXPECT_NEAR(g.gap(), 1.8 - 2 * R, 1e-12);
+}
+
+TEST(GapFunction, FacingBetweenParallelCentreLinesIsMeasuredAtTheParticles)
+{
+  // no single facing point: the gap is the held one
+  const double R = 1.0;
+  std::mt19937 gen(3);
+  const auto xi = element(3, Eigen::Vector3d(0, 0, 1.8), Eigen::Vector3d(1, 0, 0),
+                          Eigen::Vector3d(0, 0, 1), 4.0, 0.0, gen, 0.0);
+  const auto xj = element(3, Eigen::Vector3d(0, 0.1, 0), Eigen::Vector3d(1, 0.01, 0).normalized(),
+                          Eigen::Vector3d(0, 0, 1), 4.0, 0.0, gen, 0.0);
+  const Particle pi{3, 0.2, 0, -R, R}, pj{3, -0.1, 0, R, R};
+  const GapFunction facing(pi, pj, Eigen::Vector3d::UnitZ(), {GapKind::facing}, xi, xj, 0.0, false);
+  const GapFunction held(pi, pj, Eigen::Vector3d::UnitZ(), {GapKind::held}, xi, xj, 0.0, false);
+  EXPECT_EQ(facing.gap(), held.gap());
+  EXPECT_EQ(facing.patch_xi_i(), 0.2);
+}
+
+TEST(GapFunction, ContactElementTangentWithFrictionForEachKind)
+{
+  // the whole element (normal law, friction at the material particles) on
+  // top of the moving gap: its tangent is still the residual's derivative
+  std::mt19937 gen(5);
+  const double R = 0.01;
+  const RegularizedPenalty law(1.0e4, 0.05 * R);
+  const RegularizedCoulomb fr{0.3, 1e-4};
+  for (const GapKind kind : {GapKind::held, GapKind::following, GapKind::facing})
+  {
+    const double a = kind == GapKind::following ? 0.05 : 1.2;
+    const Eigen::Vector3d ti(1, 0, 0), tj(std::cos(a), std::sin(a), 0);
+    const auto xi = element(3, Eigen::Vector3d(0.002, 0, 1.7 * R), ti,
+                            Eigen::Vector3d(0, 0, 1), 0.1, 0.1 * R, gen, 1e-3);
+    const auto xj = element(3, Eigen::Vector3d(0, 0, 0), tj, Eigen::Vector3d(0, 0, 1), 0.1,
+                            0.0, gen, 1e-3);
+    const Eigen::Vector3d N = Eigen::Vector3d(0.05, -0.02, 1).normalized();
+    const Particle pi{3, 0.1, 0.0, -R, R}, pj{3, -0.05, 0.0, R, R};
+    const GapMotion motion{kind, ti, tj};
+    const Eigen::Vector3d delta = particle_position(pi, xi) - particle_position(pj, xj);
+    const Eigen::Vector3d stick = delta - 0.5 * fr.u_rev * N.unitOrthogonal(); // sticking
+    std::vector<double> x(xi);
+    x.insert(x.end(), xj.begin(), xj.end());
+    const std::size_t n = x.size();
+    auto res = [&](const std::vector<double>& y)
+    {
+      std::vector<double> r(n, 0.0);
+      contact_element(pi, pj, N, law, &fr, stick, std::span(y.data(), 27),
+                      std::span(y.data() + 27, 27), r, {}, 0.0, motion);
+      return r;
+    };
+    std::vector<double> r(n), K(n * n);
+    const auto out = contact_element(pi, pj, N, law, &fr, stick, std::span(x.data(), 27),
+                                     std::span(x.data() + 27, 27), r, K, 0.0, motion);
+    ASSERT_GT(out.normal_force, 0.0);
+    EXPECT_LT(test::relative_error(K, test::fd_jacobian(res, x, 1e-8)), 1e-6)
+        << static_cast<int>(kind);
+    // the gap the assembler uses to skip open elements is the element's
+    EXPECT_EQ(contact_gap(pi, pj, N, std::span(x.data(), 27), std::span(x.data() + 27, 27), 0.0,
+                          motion),
+              out.gap);
+  }
+}
+
+namespace
+{
+/// Nodal unknowns of two quadratic elements (5 nodes) along x from x0, each
+/// element `len` long, kinked at the shared node by `kink` (rad, about y),
+/// at height z0; sections (g1, g2) = (y, z) of unit length.
+std::vector<double> kinked_patch(double x0, double z0, double len, double kink)
+{
+  std::vector<double> x;
+  const Eigen::Vector3d t2(std::cos(kink), 0, std::sin(kink));
+  for (int a = 0; a < 5; ++a)
+  {
+    const Eigen::Vector3d p = a <= 2 ? Eigen::Vector3d(x0 + 0.5 * len * a, 0, z0)
+                                     : Eigen::Vector3d(x0 + len, 0, z0) + 0.5 * len * (a - 2) * t2;
+    for (const Eigen::Vector3d& v : {p, Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, 0, 1)})
+      for (int k = 0; k < 3; ++k)
+        x.push_back(v(k));
+  }
+  return x;
+}
+} // namespace
+
+TEST(ContactPatch, TwoElementsSmoothedAcrossTheirNode)
+{
+  // a patch of two quadratic elements: partition of unity, the fibre
+  // itself outside the window, C1 at the window's ends, through the node
+  const Particle p{3, 0.0, 0, 0, 1.0, 2, 0};
+  ASSERT_EQ(p.patch_nodes(), 5);
+  for (double xi : {-1.0, -0.3, 0.0, 0.4, 1.0, 1.7, 2.0, 2.5, 3.0})
+  {
+    const PatchShape s(p, xi);
+    double sum = 0, dsum = 0, ddsum = 0;
+    for (int a = 0; a < 5; ++a)
+      sum += s.n[a], dsum += s.dn[a], ddsum += s.ddn[a];
+    EXPECT_NEAR(sum, 1.0, 1e-14) << xi;
+    EXPECT_NEAR(dsum, 0.0, 1e-13) << xi;
+    EXPECT_NEAR(ddsum, 0.0, 1e-12) << xi;
+  }
+  const PatchShape at_node(p, 1.0), left(p, -0.5), right(p, 2.5);
+  EXPECT_NEAR(at_node.n[2], 1.0, 1e-14); // the shared node
+  std::array<double, 3> n, dn;
+  beam::lagrange(3, -0.5, n, dn); // outside the window: element A's functions
+  for (int a = 0; a < 3; ++a)
+    EXPECT_NEAR(left.n[a], n[a], 1e-14);
+  beam::lagrange(3, 0.5, n, dn); // and B's
+  for (int a = 0; a < 3; ++a)
+    EXPECT_NEAR(right.n[2 + a], n[a], 1e-14);
+  // C1 at the window's ends (xi = 0 and 2 for patch_smoothing = 0.5)
+  const double w = 2 * patch_smoothing;
+  for (double edge : {1.0 - w, 1.0 + w})
+  {
+    const PatchShape a(p, edge - 1e-9), b(p, edge + 1e-9);
+    for (int k = 0; k < 5; ++k)
+    {
+      EXPECT_NEAR(a.n[k], b.n[k], 1e-8);
+      EXPECT_NEAR(a.dn[k], b.dn[k], 1e-7);
+    }
+  }
+}
+
+TEST(ContactPatch, FacingAcrossAKinkedNodeIsSmoothAndExact)
+{
+  // fibre i: two elements kinked by 10 deg at their node (x = 0.2); fibre
+  // j: one straight element across it along y, 1.9 R below. As j slides
+  // along x past the node, the gap and its gradient change continuously
+  // (the kinked line's facing point would jump its force direction by
+  // the kink angle), and the tangent stays exact.
+  const double R = 0.01, len = 0.2, kink = 10 * M_PI / 180;
+  const auto xi = kinked_patch(0.0, 1.9 * R, len, kink);
+  const Particle pi{3, 0.8, 0, -R, R, 2, 0}, pj{3, 0.0, 0, R, R};
+  const GapMotion motion{GapKind::facing, Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0)};
+  Eigen::Vector3d previous = Eigen::Vector3d::Zero();
+  double previous_gap = 0;
+  for (int k = 0; k <= 40; ++k)
+  {
+    const double xc = len - 0.04 + 0.002 * k; // fibre j's position along x
+    std::mt19937 gen(1);
+    const auto xj = element(3, Eigen::Vector3d(xc, 0, 0), Eigen::Vector3d(0, 1, 0),
+                            Eigen::Vector3d(1, 0, 0), 0.1, 0.0, gen, 0.0);
+    const GapFunction g(pi, pj, Eigen::Vector3d::UnitZ(), motion, xi, xj, 0.0, true);
+    ASSERT_GT(g.patch_xi_i(), -1.0);
+    ASSERT_LT(g.patch_xi_i(), 3.0);
+    // the force direction (on the shared node's centroid)
+    const Eigen::Vector3d m = g.gradient().segment<3>(9 * 2).normalized();
+    if (k > 0)
+    {
+      // a step of 0.002 (1% of an element) turns the force by a few percent
+      // of the kink angle (it turns by the kink over the window, 1 element)
+      EXPECT_LT(std::acos(std::min(1.0, m.dot(previous))), 0.05 * kink) << xc;
+      // the gap's slope stays near the fibre's (tan of the kink beyond the
+      // node; 10% for the blend's own slope in the window)
+      EXPECT_LT(std::abs(g.gap() - previous_gap), 0.002 * std::tan(kink) * 1.1) << xc;
+    }
+    previous = m;
+    previous_gap = g.gap();
+  }
+  // the exact tangent on the patch, in the window
+  std::mt19937 gen(7);
+  auto xj = element(3, Eigen::Vector3d(len + 0.01, 0, 0), Eigen::Vector3d(0, 1, 0),
+                    Eigen::Vector3d(1, 0, 0), 0.1, 0.0, gen, 1e-3);
+  std::vector<double> x(xi);
+  x.insert(x.end(), xj.begin(), xj.end());
+  const std::size_t n = x.size(), ni = xi.size();
+  auto gradient_of = [&](const std::vector<double>& y)
+  {
+    const GapFunction g(pi, pj, Eigen::Vector3d::UnitZ(), motion, std::span(y.data(), ni),
+                        std::span(y.data() + ni, n - ni), 0.0, true);
+    return std::vector<double>(g.gradient().data(), g.gradient().data() + n);
+  };
+  const GapFunction g(pi, pj, Eigen::Vector3d::UnitZ(), motion, std::span(x.data(), ni),
+                      std::span(x.data() + ni, n - ni), 0.0, true);
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> H
+      = Eigen::MatrixXd::Zero(n, n);
+  g.add_hessian(1.0, H);
+  const std::vector<double> Hv(H.data(), H.data() + n * n);
+  EXPECT_LT(test::relative_error(Hv, test::fd_jacobian(gradient_of, x, 1e-7)), 1e-6);
+}
+
+TEST(ContactPatch, APointLeavingItsPatchStopsAtItsEndContinuously)
+{
+  // fibre j slides along fibre i past the end of i's one-element patch:
+  // the gap stays continuous as i's point stops at the end node, and the
+  // tangent is exact on both sides
+  const double R = 0.01;
+  std::mt19937 gen(3);
+  const auto xi = element(3, Eigen::Vector3d(0, 0, 1.8 * R), Eigen::Vector3d(1, 0, 0.2).normalized(),
+                          Eigen::Vector3d(0, 0, 1), 0.1, 0.05 * R, gen, 0.0);
+  const Particle pi{3, 0.5, 0, -R, R}, pj{3, 0.0, 0, R, R};
+  const GapMotion motion{GapKind::facing, Eigen::Vector3d(1, 0, 0.2).normalized(),
+                         Eigen::Vector3d(0, 1, 0)};
+  auto gap_at = [&](double xc, std::vector<double>* out = nullptr)
+  {
+    std::mt19937 g2(4);
+    auto xj = element(3, Eigen::Vector3d(xc, 0, 0), Eigen::Vector3d(0, 1, 0),
+                      Eigen::Vector3d(1, 0, 0), 0.1, 0.0, g2, 0.0);
+    if (out)
+      *out = xj;
+    return GapFunction(pi, pj, Eigen::Vector3d::UnitZ(), motion, xi, xj, 0.0, false);
+  };
+  // the end of i's element is at x = 0.05 / |(1, 0, 0.2)|
+  const double end = 0.05 / std::sqrt(1.04);
+  const auto before = gap_at(end - 1e-9), after = gap_at(end + 1e-9);
+  EXPECT_NEAR(before.patch_xi_i(), 1.0, 1e-6);
+  EXPECT_EQ(after.patch_xi_i(), 1.0); // stopped
+  EXPECT_NEAR(before.gap(), after.gap(), 1e-9);
+  for (double xc : {end - 0.01, end + 0.01})
+  {
+    std::vector<double> xj;
+    gap_at(xc, &xj);
+    std::vector<double> x(xi);
+    x.insert(x.end(), xj.begin(), xj.end());
+    const std::size_t n = x.size(), ni = xi.size();
+    auto gradient_of = [&](const std::vector<double>& y)
+    {
+      const GapFunction g(pi, pj, Eigen::Vector3d::UnitZ(), motion, std::span(y.data(), ni),
+                          std::span(y.data() + ni, n - ni), 0.0, true);
+      return std::vector<double>(g.gradient().data(), g.gradient().data() + n);
+    };
+    const GapFunction g(pi, pj, Eigen::Vector3d::UnitZ(), motion, std::span(x.data(), ni),
+                        std::span(x.data() + ni, n - ni), 0.0, true);
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> H
+        = Eigen::MatrixXd::Zero(n, n);
+    g.add_hessian(1.0, H);
+    const std::vector<double> Hv(H.data(), H.data() + n * n);
+    EXPECT_LT(test::relative_error(Hv, test::fd_jacobian(gradient_of, x, 1e-7)), 1e-6) << xc;
+  }
+}

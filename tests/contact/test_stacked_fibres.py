@@ -1,0 +1,58 @@
+"""Stacked fibres: yarns whose fibres lie on each other (bundles) weave,
+their contact loop settling within each step.
+
+Three fibres in a triangle per yarn, a 2 x 2 plain weave two yarn widths
+apart, frictionless, through the first 70% of the weaving stage. Each
+cause the contact loop (loops 1-2 of METHOD.md section 4) once failed on is
+a property of the gap a contact element gives Newton
+(cpp/textile/contact/gap_function.h):
+
+- line contacts within a yarn held their normals: a fibre pressed into the
+  groove between two others slid along the tangent planes of its contacts,
+  the next pass turned the normals after it, and the passes swung for ever
+  (normals by about 10 deg, period 2 or 3: DIVERGED_EFFECTS_UNSETTLED at
+  38% of the stage); now they follow the centre lines within Newton;
+- crossings held their points: a fibre pressed at one point bends and
+  slides, and the next pass moved the point, at a rate near 1 (hundreds of
+  Newton iterations a step); now the point moves with the fibres;
+- on the C0 centre lines the moving point's force direction jumps where it
+  passes a node kinked by the crossing's own force (Newton cycled at 17%):
+  now it moves on a line smoothed across the node (particle.h);
+- placed anew at every pass, the line contacts' particles moved with the
+  zones' ends by a thousandth of an element and the forces swung by a
+  percent between two places: now an element found again within a step
+  keeps its place (history_transfer.h, persist).
+
+Past 70% the frictionless triangles turn unstable (a fibre on two others
+rolls off as they spread: a negative eigenvalue, measured at 77%).
+"""
+from mpi4py import MPI
+
+import textile
+from textile.fabric import Fabric
+from textile.weaving import Weaving
+from textile.yarn import Yarn
+
+R = 0.1e-3
+MAT = textile.Material(5.0e9, 0.35)
+
+
+def test_stacked_yarns_settle_within_each_step():
+    yarn = Yarn(3, R, MAT, packing="hexagonal")
+    fab = Fabric(yarn, num_warp=2, num_weft=2, spacing=2.0 * yarn.width, pattern="plain",
+                 elements_per_crossing=4)
+    w = Weaving(fab, comm=MPI.COMM_SELF)
+    solver = textile.Solver(w.model, dict(verbose=False))
+    weaving, _ = w.stages()
+    solver.run_stage(weaving, t_end=0.7)
+    assert abs(w.model.load_factor - 0.7) < 1e-12
+    steps = solver.history
+    # every step settles in a few contact loops (measured 2026-12-01: 6
+    # steps of 2-3 Newton solves and 14-30 iterations, after one first step
+    # of 0.4 cut in two; the counts are regression figures: a worse loop
+    # shows here first)
+    assert len(steps) == 6
+    assert max(s.updates for s in steps) <= 3
+    assert max(s.newton_iterations for s in steps) <= 36
+    assert solver.counters["failed_attempts"] <= 1
+    assert all(s.effects["crossed_contacts"] == 0 for s in steps)
