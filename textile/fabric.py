@@ -155,6 +155,13 @@ class Fabric:
     def yarn(self, k: int) -> Yarn:
         return self.warp if k < self.num_warp else self.weft
 
+    def yarn_friction(self) -> np.ndarray:
+        """Each yarn's friction coefficient between its own fibres
+        (Yarn.friction; NaN: the contact's), for FibreContact's
+        ``yarn_friction``."""
+        return np.array([math.nan if self.yarn(k).friction is None else self.yarn(k).friction
+                         for k in range(self.num_yarns)])
+
     def yarn_direction(self, k: int) -> str:
         """"warp" (along x) or "weft" (along y)."""
         if not 0 <= k < self.num_yarns:

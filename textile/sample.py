@@ -144,7 +144,8 @@ class Sample:
         self.configuration = configuration
         self.contact = None
         if contact is not False:
-            self.contact = FibreContact(contact)
+            self.contact = FibreContact(contact, fibre_yarn=fabric.fibre_yarn,
+                                        yarn_friction=fabric.yarn_friction())
             self.model.add_effect(self.contact)
         self._add_matrix(configuration)
         self.sides: dict[str, RigidBody] = {}

@@ -91,7 +91,8 @@ class Weaving:
         self.tension = float(tension)
         fibres = fabric.fibres()
         self.model = Model(fibres, element=element, comm=comm)
-        self.contact = FibreContact(contact)
+        self.contact = FibreContact(contact, fibre_yarn=fabric.fibre_yarn,
+                                    yarn_friction=fabric.yarn_friction())
         self.model.add_effect(self.contact)
         self.clamps, self.pulls = [], []
         for k in range(fabric.num_yarns):

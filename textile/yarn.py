@@ -90,6 +90,11 @@ out touching to about 1e-15 relative
 (tests/weave/test_yarn_fabric.py::test_packings_touch_without_overlap);
 offsets typed or computed by a user carry their own round-off."""
 
+#: Default Coulomb coefficient between the fibres of a bundle (Yarn.friction):
+#: the low end of measured fibre-on-fibre friction of polyester and glass
+#: filaments (0.2-0.3), and what the virtual tests take between yarns.
+BUNDLE_FRICTION = 0.2
+
 # a lattice site, the centre of a triangle of sites, the middle of a bond
 # (in pitches): the centres a compact hexagonal bundle can have
 _HEX_CENTRES = ((0.0, 0.0), (0.5, math.sqrt(3) / 6), (0.5, 0.0))
@@ -297,6 +302,17 @@ class Yarn:
         Turns per unit length about the yarn's axis, finite (0: parallel
         fibres; the sign is the hand). Refused when two fibres' helices would
         come closer than 2 R or the pitch 1/|twist| is shorter than 4 R.
+    friction:
+        Coulomb coefficient between two fibres of this yarn, in [0, 10), or
+        None: the contact's ``friction`` (as between yarns). Default:
+        BUNDLE_FRICTION for a bundle (fibres stacked over each other, or
+        twisted), None for a single row or a monofilament. A frictionless
+        stack is unstable: pressed by a crossing yarn, a fibre resting on
+        two others rolls off them as they spread (a negative eigenvalue of
+        the tangent, tests/contact/test_stacked_fibres.py), which a
+        quasi-static solve cannot pass, and the weaving stage is
+        frictionless between yarns; fibres side by side in one row cannot
+        roll off each other.
     """
 
     count: int
@@ -305,6 +321,7 @@ class Yarn:
     packing: object = "hexagonal"
     clearance: float = 0.0
     twist: float = 0.0
+    friction: float | None = None
     _offsets: np.ndarray = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
@@ -325,6 +342,20 @@ class Yarn:
                             f"{type(self.material).__name__}")
         object.__setattr__(self, "_offsets", self._make_offsets())
         self._check_twist()
+        v = self.friction
+        if v is None and self.is_bundle:
+            v = BUNDLE_FRICTION
+        if v is not None and (isinstance(v, bool) or not isinstance(v, numbers.Real)
+                              or not 0 <= v < 10):
+            raise ValueError(f"Yarn.friction must be in [0, 10) (or None), got {v!r}")
+        object.__setattr__(self, "friction", None if v is None else float(v))
+
+    @property
+    def is_bundle(self) -> bool:
+        """Fibres stacked over each other in the section (more than one
+        row), or a twisted yarn of several fibres."""
+        h = self._offsets[:, 1]
+        return bool(np.ptp(h) > ROUND_OFF * self.radius) or (self.count > 1 and self.twist != 0)
 
     def _make_offsets(self) -> np.ndarray:
         pitch = 2 * self.radius * (1 + 0.5 * self.clearance)

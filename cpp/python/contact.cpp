@@ -130,6 +130,29 @@ struct Geometry
     lines.radius.assign(radius.data(), radius.data() + radius.size());
   }
 };
+
+/// mu for every pair, or group_mu[g] between two fibres of group g
+/// (`group`: None, or one integer per fibre, -1 for none).
+FrictionCoefficients friction_coefficients(double mu, const py::object& group,
+                                           const py::object& group_mu, py::ssize_t num_fibres)
+{
+  FrictionCoefficients out{mu, {}, {}};
+  if (group.is_none())
+    return out;
+  const auto g = group.cast<carray<int>>();
+  const auto w = group_mu.cast<carray<double>>();
+  if (g.size() != num_fibres)
+    throw std::invalid_argument("friction groups: one group per fibre");
+  for (py::ssize_t k = 0; k < g.size(); ++k)
+    if (g.data()[k] >= w.size())
+      throw std::invalid_argument("friction groups: a group without its coefficient");
+  for (py::ssize_t k = 0; k < w.size(); ++k)
+    if (!(w.data()[k] >= 0))
+      throw std::invalid_argument("friction groups: coefficients must be >= 0");
+  out.group.assign(g.data(), g.data() + g.size());
+  out.within.assign(w.data(), w.data() + w.size());
+  return out;
+}
 } // namespace
 
 void declare_contact(py::module_& m)
@@ -266,10 +289,14 @@ void declare_contact(py::module_& m)
              const carray<std::int64_t>& first_node, int order, const carray<double>& radius,
              double penalty, double g_r, double mu, double u_rev, double parallel_angle,
              std::pair<std::int64_t, std::int64_t> owned, const WeavingOrder* weaving,
-             bool reset_normals, const WeavingOrder* woven, bool persist)
+             bool reset_normals, const WeavingOrder* woven, bool persist,
+             const py::object& group, const py::object& group_mu)
           {
             Geometry geo(q, first_node, order, radius);
-            ElementParameters par{penalty, g_r, RegularizedCoulomb{mu, u_rev}, parallel_angle};
+            const FrictionCoefficients coefficients = friction_coefficients(
+                mu, group, group_mu, radius.size());
+            ElementParameters par{penalty, g_r, RegularizedCoulomb{mu, u_rev}, &coefficients,
+                                  parallel_angle};
             par.weaving = weaving;
             par.reset_normals = reset_normals;
             par.woven = woven;
@@ -286,16 +313,23 @@ void declare_contact(py::module_& m)
           py::arg("radius"), py::arg("penalty"), py::arg("g_r"), py::arg("mu"), py::arg("u_rev"),
           py::arg("parallel_angle"), py::arg("owned"), py::arg("weaving") = nullptr,
           py::arg("reset_normals") = false, py::arg("woven") = nullptr, py::arg("persist") = false,
+          py::arg("group") = py::none(), py::arg("group_mu") = py::none(),
           "The set of detection pass `found` with history from this one (evaluated by this "
           "rank: evaluated_here in contact_set.h), and what each new zone inherits. "
           "`weaving`: a WeavingOrder whose ordered pairs take the vertical normal; "
-          "`reset_normals`: set normals from the geometry, not from the old elements.")
+          "`reset_normals`: set normals from the geometry, not from the old elements; "
+          "`group` (per fibre, e.g. its yarn, -1 none; None: no groups) and `group_mu` (per "
+          "group): two fibres of group g take group_mu[g], other pairs mu "
+          "(friction_coefficients.h).")
       .def_static(
           "from_saved",
           [](const py::dict& a, int num_zones, const carray<double>& q,
              const carray<std::int64_t>& first_node, int order, const carray<double>& radius,
-             double g_r, double mu, double u_rev, std::pair<std::int64_t, std::int64_t> owned)
+             double g_r, double mu, double u_rev, std::pair<std::int64_t, std::int64_t> owned,
+             const py::object& group, const py::object& group_mu)
           {
+            const FrictionCoefficients coefficients = friction_coefficients(
+                mu, group, group_mu, radius.size());
             Geometry geo(q, first_node, order, radius);
             auto col = [&](const char* name) { return a[name].cast<carray<double>>(); };
             const auto fi = a["fibre_i"].cast<carray<int>>(), fj = a["fibre_j"].cast<carray<int>>();
@@ -326,7 +360,6 @@ void declare_contact(py::module_& m)
                 or st.size() != 3 * size or (tangents and (ti.size() != 3 * size
                                                           or tj.size() != 3 * size)))
               throw std::invalid_argument("ContactSet.from_saved: arrays of different lengths");
-            const RegularizedCoulomb friction{mu, u_rev};
             std::vector<ContactElementState> elements;
             for (py::ssize_t e = 0; e < size; ++e)
             {
@@ -343,6 +376,8 @@ void declare_contact(py::module_& m)
                                                 : Eigen::Vector3d::Zero(),
                                        tangents ? Eigen::Vector3d(tj.data() + 3 * e)
                                                 : Eigen::Vector3d::Zero()};
+              const RegularizedCoulomb friction{coefficients.mu(saved.fibre_i, saved.fibre_j),
+                                                u_rev};
               ContactElementState el = restore_element(geo.lines, saved, g_r, friction, cspan(q));
               if (evaluated_here(el.fibre_i, el.fibre_j, el.element_node_i(), el.element_node_j(), owned))
                 elements.push_back(el);
@@ -351,7 +386,7 @@ void declare_contact(py::module_& m)
           },
           py::arg("saved"), py::arg("num_zones"), py::arg("q"), py::arg("first_node"),
           py::arg("order"), py::arg("radius"), py::arg("g_r"), py::arg("mu"), py::arg("u_rev"),
-          py::arg("owned"),
+          py::arg("owned"), py::arg("group") = py::none(), py::arg("group_mu") = py::none(),
           "The elements of a saved state (a dict of the data() columns, all ranks' elements) "
           "that this rank evaluates (evaluated_here in contact_set.h).")
       .def("take_layout", &ContactSet::take_layout, py::arg("previous"),

@@ -2,7 +2,8 @@
 their contact loop settling within each step.
 
 Three fibres in a triangle per yarn, a 2 x 2 plain weave two yarn widths
-apart, frictionless, through the first 70% of the weaving stage. Each
+apart, frictionless (``friction=0``: a bundle's default has friction within
+the yarn), through the first 70% of the weaving stage. Each
 cause the contact loop (loops 1-2 of METHOD.md section 4) once failed on is
 a property of the gap a contact element gives Newton
 (cpp/textile/contact/gap_function.h):
@@ -38,7 +39,7 @@ MAT = textile.Material(5.0e9, 0.35)
 
 
 def test_stacked_yarns_settle_within_each_step():
-    yarn = Yarn(3, R, MAT, packing="hexagonal")
+    yarn = Yarn(3, R, MAT, packing="hexagonal", friction=0.0)
     fab = Fabric(yarn, num_warp=2, num_weft=2, spacing=2.0 * yarn.width, pattern="plain",
                  elements_per_crossing=4)
     w = Weaving(fab, comm=MPI.COMM_SELF)

@@ -15,7 +15,7 @@ from textile.effects.fibre_contact import FibreContact
 MU = 0.3
 
 
-def run(angle_deg, comm=MPI.COMM_SELF):
+def run(angle_deg, comm=MPI.COMM_SELF, friction=MU, **yarns):
     E, nu, R, L = 1.0e9, 0.3, 1e-3, 0.1
     mat = textile.Material(E, nu)
     A = textile.straight_fibre([0, -L / 2, 0], [0, L / 2, 0], R, mat, num_elements=8)
@@ -36,8 +36,10 @@ def run(angle_deg, comm=MPI.COMM_SELF):
     model.fix(B, 0, ["x", "y", "z", "g1x"], lambda t: ends(t) + [0.0])
     model.fix(B, -1, ["x", "y", "z"], ends)
     # per unit length: a crossing (equivalent length 2R) of stiffness 1e5 N/m
-    contact = FibreContact(dict(adapt_penalty=False, penalty=1e5 / (2 * R), regularization=0.05,
-                                friction=MU, reversible_slip=0.01))
+    options = dict(adapt_penalty=False, penalty=1e5 / (2 * R), regularization=0.05,
+                   friction=friction, reversible_slip=0.01)
+    options.update(yarns.pop("options", {}))
+    contact = FibreContact(options, **yarns)
     model.add_effect(contact)
     u_rev = 0.01 * R
     rows = []
@@ -92,3 +94,34 @@ def test_stick_slip_on_two_ranks_equals_one():
     for key in ("N", "T"):
         s, p = np.array([r[key] for r in serial]), np.array([r[key] for r in parallel])
         assert np.abs(p - s).max() < 1e-12 * np.abs(s).max(), key
+
+
+@pytest.mark.parametrize("yarns, mu", [
+    (dict(fibre_yarn=[0, 0], yarn_friction=[0.3]), 0.3),        # one yarn: its own
+    (dict(fibre_yarn=[0, 1], yarn_friction=[0.3, 0.3]), 0.1),   # two yarns: between
+    (dict(fibre_yarn=[0, -1], yarn_friction=[0.3]), 0.1),       # B in no yarn
+    (dict(fibre_yarn=[0, 0], yarn_friction=[np.nan]), 0.1),     # the yarn takes friction's
+    (dict(fibre_yarn=[0, 0], yarn_friction=[0.3],
+          options=dict(yarn_friction=0.5)), 0.5),               # the option overrides
+])
+def test_fibres_of_one_yarn_take_its_friction(yarns, mu):
+    """The crossing at 60 degrees again, the contact given the fibres'
+    yarns: steady sliding at mu N with the yarn's coefficient when both
+    fibres are of one yarn, the contact's ``friction`` (0.1) otherwise
+    (within 1%, as above)."""
+    rows, _ = run(60, friction=0.1, **yarns)
+    slipping = [r for r in rows if np.all(r["d"]["slip"]) and len(r["d"]["slip"])]
+    assert slipping
+    for r in slipping[-3:]:
+        assert r["T"] / r["N"] == pytest.approx(mu, rel=1e-2)
+
+
+def test_yarn_friction_needs_the_fibres_yarns():
+    with pytest.raises(ValueError, match="yarn_friction needs fibre_yarn"):
+        FibreContact(dict(friction=0.1), yarn_friction=[0.3])
+    with pytest.raises(ValueError, match="one coefficient in \\[0, 10\\)"):
+        FibreContact(dict(friction=0.1), fibre_yarn=[0, 1], yarn_friction=[0.3])
+    with pytest.raises(ValueError, match="one yarn index"):
+        FibreContact(dict(friction=0.1), fibre_yarn=[0.5, 1])
+    with pytest.raises(ValueError, match="yarn_friction must be in"):
+        FibreContact(dict(friction=0.1, yarn_friction=-1))

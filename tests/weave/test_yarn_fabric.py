@@ -3,9 +3,11 @@ import math
 
 import numpy as np
 import pytest
+from mpi4py import MPI
 
 import textile
 from textile.fabric import Fabric, interpolated_section_scale
+from textile.weaving import Weaving
 from textile.yarn import Yarn, helix_distances, round_rings
 
 MAT = textile.Material(1.0e9, 0.3)
@@ -156,12 +158,34 @@ def test_clearance_and_custom_offsets():
     # touching side by side: any twist crosses the helices (module docstring)
     (dict(twist=1 / (1000 * R)), ValueError, r"helices of fibres \d+ and \d+ come"),
     (dict(packing="round", count=28, twist=1 / (1000 * R)), ValueError, r"helices of fibres"),
+    (dict(friction=-0.1), ValueError, r"Yarn.friction must be in \[0, 10\)"),
+    (dict(friction=True), ValueError, r"Yarn.friction must be in"),
+    (dict(friction="0.2"), ValueError, r"Yarn.friction must be in"),
 ])
 def test_bad_yarns(kwargs, error, match):
     args = dict(count=7, radius=R, material=MAT)
     args.update(kwargs)
     with pytest.raises(error, match=match):
         Yarn(**args)
+
+
+def test_bundles_have_friction_within_the_yarn():
+    """Yarn.friction's default: BUNDLE_FRICTION where fibres are stacked
+    (a frictionless stack is unstable, Yarn docstring) or twisted, the
+    contact's (None) for a single row or a monofilament; the weaving's
+    contact takes each yarn's."""
+    from textile.yarn import BUNDLE_FRICTION
+    assert Yarn(7, R, MAT, packing="hexagonal").friction == BUNDLE_FRICTION
+    assert Yarn(28, R, MAT, packing="round").friction == BUNDLE_FRICTION
+    assert Yarn(14, R, MAT, packing="layers 2").friction == BUNDLE_FRICTION
+    assert Yarn(7, R, MAT, packing="layers 1").friction is None
+    assert Yarn(1, R, MAT).friction is None
+    assert Yarn(7, R, MAT, packing="hexagonal", friction=0.35).friction == 0.35
+    weft = Yarn(3, R, MAT, packing="hexagonal", friction=0.1)
+    fab = Fabric(Yarn(7, R, MAT, packing="layers 1"), weft, num_warp=2, num_weft=2,
+                 spacing=30 * R, pattern="plain", elements_per_crossing=4)
+    w = Weaving(fab, contact=dict(friction=0.05), comm=MPI.COMM_SELF)
+    assert w.contact.yarn_friction.tolist() == [0.05, 0.05, 0.1, 0.1]
 
 
 # -- twist ---------------------------------------------------------------------------------

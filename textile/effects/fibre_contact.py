@@ -88,7 +88,13 @@ class ContactOptions(Options):
     parallel_angle:
         Angle (degrees) below which two fibres are treated as parallel.
     friction:
-        Coulomb coefficient mu (0: frictionless, no friction history kept).
+        Coulomb coefficient mu between fibres (of different yarns when the
+        contact knows the fibres' yarns, FibreContact ``fibre_yarn``; 0:
+        frictionless, no friction history kept).
+    yarn_friction:
+        Coulomb coefficient between two fibres of one yarn, for every yarn
+        (None: each yarn's own, ``Yarn.friction``, given to FibreContact
+        with ``fibre_yarn``; without yarns, ``friction``).
     reversible_slip:
         u_T,rev as a fraction of the smallest radius.
     self_contact:
@@ -122,6 +128,7 @@ class ContactOptions(Options):
     penalty_range: tuple = (1e-3, 1e3)
     parallel_angle: float = 10.0
     friction: float = 0.0
+    yarn_friction: float | None = None
     reversible_slip: float = 0.01
     self_contact: bool = True
     tangent_floor: float = 1.0
@@ -152,6 +159,34 @@ class ContactOptions(Options):
                              f"{self.tangent_floor!r}")
         if self.max_penalty_change < 1:
             raise ValueError("ContactOptions.max_penalty_change must be >= 1")
+        v = self.yarn_friction
+        if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float))
+                              or not 0 <= v < 10):
+            raise ValueError(f"ContactOptions.yarn_friction must be in [0, 10) or None, got {v!r}")
+
+
+def _friction_groups(o: ContactOptions, fibre_yarn, yarn_friction):
+    """(each fibre's yarn or None, each yarn's friction coefficient)."""
+    if fibre_yarn is None:
+        if yarn_friction is not None:
+            raise ValueError("FibreContact: yarn_friction needs fibre_yarn (each fibre's yarn)")
+        return None, np.zeros(0)
+    groups = np.asarray(fibre_yarn)
+    if groups.ndim != 1 or groups.dtype.kind not in "iu" or (groups.size and groups.min() < -1):
+        raise ValueError("FibreContact: fibre_yarn must hold one yarn index (>= 0, or -1 for "
+                         "none) per fibre")
+    num_yarns = int(groups.max(initial=-1)) + 1
+    if o.yarn_friction is not None:
+        mu = np.full(num_yarns, float(o.yarn_friction))
+    elif yarn_friction is not None:
+        mu = np.array(yarn_friction, dtype=float)
+        if mu.shape != (num_yarns,) or not np.all(np.isnan(mu) | ((mu >= 0) & (mu < 10))):
+            raise ValueError(f"FibreContact: yarn_friction must hold one coefficient in [0, 10) "
+                             f"(or NaN: friction) per yarn ({num_yarns}), got {yarn_friction!r}")
+        mu[np.isnan(mu)] = o.friction
+    else:
+        mu = np.full(num_yarns, float(o.friction))
+    return groups.astype(np.intc), mu
 
 
 #: Factor by which the tangent floor decays from one Newton iteration to the
@@ -179,13 +214,31 @@ class FibreContact(Effect):
     @property
     def symmetric_tangent(self) -> bool:
         """Frictionless contact derives from a potential at fixed normals."""
-        return self.options.friction == 0
+        return not self.has_friction
+
+    @property
+    def yarn_friction(self) -> np.ndarray | None:
+        """Each yarn's coefficient between its own fibres (None: the
+        contact was not given the fibres' yarns)."""
+        return None if self._fibre_groups is None else self._yarn_mu.copy()
+
+    @property
+    def has_friction(self) -> bool:
+        """Some pair of fibres has friction (between or within yarns)."""
+        return self.options.friction > 0 or bool(np.any(self._yarn_mu > 0))
 
     MODES = ("ordinary", "weaving")
 
-    def __init__(self, options: ContactOptions | dict | None = None):
+    def __init__(self, options: ContactOptions | dict | None = None, fibre_yarn=None,
+                 yarn_friction=None):
+        """``fibre_yarn``: each fibre's yarn (model fibre order; -1: none),
+        so that fibres of one yarn take their yarn's friction coefficient,
+        ``yarn_friction[yarn]`` (NaN: ContactOptions.friction;
+        ContactOptions.yarn_friction overrides them all)."""
         self.options = options if isinstance(options, ContactOptions) \
             else ContactOptions.from_dict(options)
+        self._fibre_groups, self._yarn_mu = _friction_groups(self.options, fibre_yarn,
+                                                             yarn_friction)
         self.set = None
         self._committed = None
         self.mode = "ordinary"
@@ -253,6 +306,9 @@ class FibreContact(Effect):
     def setup(self, model) -> None:
         mesh, o = model.mesh, self.options
         self.model = model
+        if self._fibre_groups is not None and len(self._fibre_groups) != len(mesh.fibres):
+            raise ValueError(f"FibreContact: fibre_yarn names {len(self._fibre_groups)} "
+                             f"fibres, the model has {len(mesh.fibres)}")
         self.radius = np.array([f.radius for f in mesh.fibres])
         young = min(f.material.young for f in mesh.fibres)
         rmin = self.radius.min()
@@ -303,6 +359,12 @@ class FibreContact(Effect):
                                     np.zeros((0, 5)) if zones is None else zones,
                                     keep_kinds)
 
+    def _friction_args(self) -> dict:
+        """The fibres' yarns and the yarns' coefficients (ContactSet.next)."""
+        if self._fibre_groups is None:
+            return {}
+        return dict(group=self._fibre_groups, group_mu=self._yarn_mu)
+
     def _contacts_to_hold(self, q: np.ndarray) -> dict:
         """The closed elements of every rank (at the set's last evaluation)
         that the next detection might lose (``held_contact.h``): detection is
@@ -344,7 +406,7 @@ class FibreContact(Effect):
                                   self.g_r, o.friction, self.u_rev,
                                   math.radians(o.parallel_angle), mesh.owned,
                                   self._order if self.mode == "weaving" else None,
-                                  reset_normals, self._woven, persist)
+                                  reset_normals, self._woven, persist, **self._friction_args())
         self._set_depths(new)
         self._carry_zone_penalties(new, old, inherited, q)
         new.evaluate(q)
@@ -602,7 +664,7 @@ class FibreContact(Effect):
         q = model.beam_positions(model.state())
         self.set = _cpp.ContactSet.from_saved(columns, num_zones, q, mesh.first_node,
                                               mesh.order, self.radius, self.g_r, o.friction,
-                                              self.u_rev, mesh.owned)
+                                              self.u_rev, mesh.owned, **self._friction_args())
         self.set.evaluate(q)  # results at the loaded state, as after a commit
         self._committed = self.set.copy()
         self.coverage = _cpp.CouplingPattern()
@@ -614,7 +676,7 @@ class FibreContact(Effect):
         elastic slip). A test starting from a woven state: the yarns reached
         their places slipping, at the friction limit, where a free yarn has
         no tangential stiffness. No-op without friction."""
-        if self.options.friction == 0:
+        if not self.has_friction:
             return
         d = self._committed.data()
         columns = {k: np.asarray(d[k]) for k in self.SAVED}

@@ -201,8 +201,11 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
       continue;
     }
     const Eigen::Vector3d slip = from ? old.elastic_slip(*from) : Eigen::Vector3d::Zero();
+    RegularizedCoulomb friction = par.friction;
+    if (par.coefficients)
+      friction.mu = par.coefficients->mu(p.fibre_i, p.fibre_j);
     elements.push_back(make_element(c, p, z, normal, from ? from->penalty : par.penalty,
-                                    par.regularization, par.friction, slip, q, kind));
+                                    par.regularization, friction, slip, q, kind));
   }
   return {ContactSet(std::move(elements), static_cast<int>(nz)), std::move(zones)};
 }

@@ -11,6 +11,7 @@
 
 #include "contact_set.h"
 #include "detection.h"
+#include "friction_coefficients.h"
 #include "weaving_order.h"
 
 #include <climits>
@@ -59,7 +60,9 @@ struct ElementParameters
 {
   double penalty = 0;         ///< k_c of an element without history (see contact_set.h)
   double regularization = 0;  ///< g_r (length)
-  RegularizedCoulomb friction;
+  RegularizedCoulomb friction;  ///< u_rev, and mu where `coefficients` is null
+  /// Each pair's mu (within a yarn, between yarns); nullptr: friction.mu
+  const FrictionCoefficients* coefficients = nullptr;
   double parallel_angle = 0;  ///< radians, for the normals (contact_normal)
   /// The weaving stage's crossing order (weaving_order.h): pairs of fibres
   /// of ordered yarns take the vertical normal it gives; nullptr: none.
