@@ -75,7 +75,7 @@ class Composite(Sample):
     degree:
         1 or 2 (default): Lagrange degree of the matrix displacement. A
         thin composite has one or two coarse tetrahedra through its
-        thickness: linear ones lock in bending (4.24 times the P2
+        thickness: linear ones lock in bending (4.12 times the P2
         stiffness on the tests' 2 x 2 monofilament composite,
         tests/virtual/test_composite_tests.py), quadratic ones do not.
     law:

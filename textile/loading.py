@@ -22,6 +22,7 @@ A :class:`Handle` names some components of a schedule (what ``Model.fix``,
 from __future__ import annotations
 
 import inspect
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -147,6 +148,42 @@ def stage_options(effect) -> set[str]:
             if p.kind in kinds}
 
 
+#: the step sizes, which the solver's options order min <= initial <= max
+_STEPS = ("min_step", "initial_step", "max_step")
+
+
+def _check_solver_options(label: str, options: dict) -> None:
+    """A stage's solver options checked when the stage is made: names a
+    stage may change, each value as SolverOptions checks it, the switches
+    True or False, and the step sizes given ordered among themselves (their
+    order against the run's own step sizes is checked when the stage
+    starts). A bad value found only then stopped the run for good: the
+    stage was already begun."""
+    from .solver import Solver, SolverOptions   # the solver imports this module
+    unknown = sorted(set(options) - Solver.STAGE_OPTIONS)
+    if unknown:
+        raise ValueError(f"{label}: solver options {unknown} cannot change between stages; "
+                         f"allowed: {sorted(Solver.STAGE_OPTIONS)}")
+    for name, v in options.items():
+        if name in _STEPS:
+            if isinstance(v, bool) or not isinstance(v, numbers.Real) or not 0 < v <= 1:
+                raise ValueError(f"{label}: solver option {name} must be a load-factor "
+                                 f"increment in (0, 1], got {v!r}")
+        elif name in ("branch_switching", "verbose"):
+            if not isinstance(v, bool):
+                raise ValueError(f"{label}: solver option {name} must be True or False, got "
+                                 f"{v!r}")
+        else:
+            try:
+                SolverOptions(**{name: v})
+            except (TypeError, ValueError) as error:
+                raise ValueError(f"{label}: {error}") from None
+    given = [(name, options[name]) for name in _STEPS if name in options]
+    if [v for _, v in given] != sorted(v for _, v in given):
+        raise ValueError(f"{label}: solver options need min_step <= initial_step <= max_step, "
+                         f"got {dict(given)}")
+
+
 def _numeric(value) -> bool:
     try:
         np.asarray(value, dtype=float)
@@ -192,6 +229,7 @@ class Stage:
             if not isinstance(getattr(self, attribute), dict):
                 raise TypeError(f"{label}: {attribute} must be a dict, got "
                                 f"{type(getattr(self, attribute)).__name__}")
+        _check_solver_options(label, self.solver)
         if isinstance(self.release, (str, bytes, dict)) or not hasattr(self.release, "__iter__"):
             raise TypeError(f"{label}: release must be a list of handles, got "
                             f"{type(self.release).__name__}")

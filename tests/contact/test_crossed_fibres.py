@@ -60,9 +60,8 @@ def test_force_displacement(num_elements):
         n = stats["active_contacts"]
         assert n == 1  # a crossing is a point contact: one element
         predicted = f * L ** 3 / (48 * E * I) + penetration(f / n, k, reg * R)
-        # 1% required; the beam's shear flexibility (absent from the
-        # reference) accounts for the measured 0.08%
-        assert predicted == pytest.approx(d, rel=1e-2)
+        # the beam's shear flexibility (absent from the reference) accounts
+        # for the measured 0.08%; tolerance 2.5 times that
         assert predicted == pytest.approx(d, rel=2e-3)
     # the supports pull B down as hard as the contact pushes it up
     # (equilibrium to the Newton tolerance)

@@ -171,6 +171,23 @@ def bad_stages(model, force, pull):
         (dict(name="effect options", effects={contact: "weaving"}), TypeError,
          "must be a dict"),
         (dict(name="solver", solver=[("max_step", 0.1)]), TypeError, "solver must be a dict"),
+        # solver options: a bad value found when the stage started left it
+        # begun, and the run could go on with no stage after it
+        (dict(name="step", solver=dict(max_step=-0.1)), ValueError,
+         r"Stage 'step': solver option max_step must be a load-factor increment in \(0, 1\], "
+         r"got -0.1"),
+        (dict(name="steps", solver=dict(initial_step=0.5, max_step=0.1)), ValueError,
+         "need min_step <= initial_step <= max_step"),
+        (dict(name="step kind", solver=dict(initial_step="0.1")), ValueError,
+         "solver option initial_step must be a load-factor increment"),
+        (dict(name="iterations", solver=dict(max_it=2.5)), ValueError,
+         "Stage 'iterations': SolverOptions.max_it must be a positive integer, got 2.5"),
+        (dict(name="newton", solver=dict(newton="fast")), ValueError,
+         "SolverOptions.newton must be one of"),
+        (dict(name="switch", solver=dict(branch_switching="yes")), ValueError,
+         "solver option branch_switching must be True or False, got 'yes'"),
+        (dict(name="linear", solver=dict(linear_solver="petsc")), ValueError,
+         r"solver options \['linear_solver'\] cannot change between stages"),
     ]
 
 

@@ -132,6 +132,11 @@ def test_bad_input(woven):
         Twisting(fabric(), woven, 0.1, steps=0, comm=MPI.COMM_SELF)
     with pytest.raises(TypeError, match="woven"):
         Shear(fabric(), None, 1e-4, comm=MPI.COMM_SELF)
+    with pytest.raises(TypeError, match="Bending: composite must be a dict of Composite options"):
+        Bending(fabric(), woven, 0.1, matrix=FIBRE, composite=[("degree", 1)],
+                comm=MPI.COMM_SELF)
+    with pytest.raises(TypeError, match="Tension: output must be the path of a directory"):
+        Tension(fabric(), woven, 0.01, output=3, comm=MPI.COMM_SELF)
 
 
 @pytest.fixture(scope="module")

@@ -252,6 +252,8 @@ def test_stiffening_grows_with_spacing(tmp_path_factory):
         # the crossings stiffen the sample before the yarns' edges would meet
         # in the net (measured 5.3 and 6.1 deg before)
         assert stiff < bound - 3.0
+        # ... with no parallel yarns touching, to the end of the run (docstring)
+        assert fig["lateral yarn contact from [deg]"] is None
         assert stiff == pytest.approx(measured, abs=1.0)
     assert figures[2.75] > figures[2.5] + 0.8  # measured 1.45 deg later
 

@@ -36,6 +36,7 @@ points from fibre j to fibre i, gap < 0 when they interpenetrate.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -137,32 +138,57 @@ class ContactOptions(Options):
     kind = "contact"
 
     def __post_init__(self):
+        # every value checked for its type too: a string, a bool for a
+        # number (True == 1) or a number for a bool would pass the C++
+        # conversion or a comparison silently, or fail there unnamed
         self.require_positive("search_factor", "regularization", "target_penetration",
                               "reversible_slip", "update_tolerance", "max_penalty_change")
         for name in ("spacing", "penalty"):
             v = getattr(self, name)
-            if v is not None and (not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0):
-                raise ValueError(f"ContactOptions.{name} must be positive (or None), got {v!r}")
-        if not (isinstance(self.friction, (int, float)) and 0 <= self.friction < 10):
+            if v is not None and not (_real(v) and 0 < v < math.inf):
+                raise ValueError(f"ContactOptions.{name} must be positive (a finite number > 0) "
+                                 f"or None (the default), got {v!r}")
+        for name in ("adapt_penalty", "self_contact"):
+            v = getattr(self, name)
+            if not isinstance(v, bool):
+                raise ValueError(f"ContactOptions.{name} must be True or False, got {v!r}")
+        if not (_real(self.friction) and 0 <= self.friction < 10):
             raise ValueError(f"ContactOptions.friction must be in [0, 10), got {self.friction!r}")
-        if not 0 < self.parallel_angle < 90:
-            raise ValueError("ContactOptions.parallel_angle must be in (0, 90) degrees")
-        lo, hi = self.penalty_range
+        if not (_real(self.parallel_angle) and 0 < self.parallel_angle < 90):
+            raise ValueError(f"ContactOptions.parallel_angle must be in (0, 90) degrees, got "
+                             f"{self.parallel_angle!r}")
+        lo, hi = _pair(self, "penalty_range", "0 < low <= 1 <= high")
         if not 0 < lo <= 1 <= hi:
-            raise ValueError("ContactOptions.penalty_range must be (low <= 1 <= high), positive")
-        lo, hi = self.penalty_band
+            raise ValueError(f"ContactOptions.penalty_range must be (low, high) with "
+                             f"0 < low <= 1 <= high, got {self.penalty_range!r}")
+        lo, hi = _pair(self, "penalty_band", "0 < low <= 1 <= 3/4 high")
         if not 0 < lo <= 1 <= 0.75 * hi:
-            raise ValueError("ContactOptions.penalty_band must be (low, high) with "
-                             "0 < low <= 1 <= 3/4 high")
-        if not (isinstance(self.tangent_floor, (int, float)) and 0 <= self.tangent_floor <= 1):
+            raise ValueError(f"ContactOptions.penalty_band must be (low, high) with "
+                             f"0 < low <= 1 <= 3/4 high, got {self.penalty_band!r}")
+        if not (_real(self.tangent_floor) and 0 <= self.tangent_floor <= 1):
             raise ValueError(f"ContactOptions.tangent_floor must be in [0, 1], got "
                              f"{self.tangent_floor!r}")
         if self.max_penalty_change < 1:
-            raise ValueError("ContactOptions.max_penalty_change must be >= 1")
+            raise ValueError(f"ContactOptions.max_penalty_change must be >= 1, got "
+                             f"{self.max_penalty_change!r}")
         v = self.yarn_friction
-        if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float))
-                              or not 0 <= v < 10):
+        if v is not None and not (_real(v) and 0 <= v < 10):
             raise ValueError(f"ContactOptions.yarn_friction must be in [0, 10) or None, got {v!r}")
+
+
+def _real(v) -> bool:
+    """A finite real number that is not a bool."""
+    return not isinstance(v, bool) and isinstance(v, numbers.Real) and math.isfinite(v)
+
+
+def _pair(options, name: str, expected: str) -> tuple[float, float]:
+    """The two finite numbers of the (low, high) option ``name``, or a
+    ValueError naming it."""
+    v = getattr(options, name)
+    if not (isinstance(v, (tuple, list)) and len(v) == 2 and all(_real(x) for x in v)):
+        raise ValueError(f"ContactOptions.{name} must be a pair of finite numbers (low, high) "
+                         f"with {expected}, got {v!r}")
+    return v[0], v[1]
 
 
 def _friction_groups(o: ContactOptions, fibre_yarn, yarn_friction):
@@ -235,6 +261,9 @@ class FibreContact(Effect):
         so that fibres of one yarn take their yarn's friction coefficient,
         ``yarn_friction[yarn]`` (NaN: ContactOptions.friction;
         ContactOptions.yarn_friction overrides them all)."""
+        if not (options is None or isinstance(options, (ContactOptions, dict))):
+            raise TypeError(f"FibreContact: options must be a ContactOptions, a dict of contact "
+                            f"options or None (the defaults), got {options!r}")
         self.options = options if isinstance(options, ContactOptions) \
             else ContactOptions.from_dict(options)
         self._fibre_groups, self._yarn_mu = _friction_groups(self.options, fibre_yarn,

@@ -175,6 +175,12 @@ class VirtualTest:
         if woven is None or not isinstance(woven, (str, os.PathLike)):
             raise TypeError(f"{type(self).__name__}: woven must be the path of a saved woven "
                             f"state (textile.save_state after a Weaving run), got {woven!r}")
+        if not (composite is None or isinstance(composite, dict)):
+            raise TypeError(f"{type(self).__name__}: composite must be a dict of Composite "
+                            f"options or None, got {composite!r}")
+        if not (output is None or isinstance(output, (str, os.PathLike))):
+            raise TypeError(f"{type(self).__name__}: output must be the path of a directory "
+                            f"or None (nothing written), got {output!r}")
         if release_steps is None:
             release_steps = 2 if matrix is not None else 0
         for label, v, low in (("steps", steps, 1), ("release_steps", release_steps, 0)):
