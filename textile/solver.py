@@ -230,6 +230,10 @@ class SolverOptions(Options):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or v < 1:
                 raise ValueError(f"SolverOptions.{name} must be a positive integer, got {v!r}")
+        for name in ("branch_switching", "verbose"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"SolverOptions.{name} must be True or False, "
+                                 f"got {getattr(self, name)!r}")
         if not (isinstance(self.low_rank_tolerance, (int, float))
                 and 0 <= self.low_rank_tolerance < 1):
             raise ValueError("SolverOptions.low_rank_tolerance must be in [0, 1)")
@@ -799,6 +803,9 @@ class Solver:
         if unknown:
             raise ValueError(f"Stage {stage.name!r}: solver options {sorted(unknown)} cannot "
                              f"change between stages; allowed: {sorted(self.STAGE_OPTIONS)}")
+        # combined with the run's options before anything changes: a stage
+        # whose step sizes conflict with the run's is refused, not left begun
+        options = dataclasses.replace(self._base_options, **stage.solver)
         if self._stage_started:
             if m.load_factor < 1.0 - 1e-14:
                 if self._resuming is not None and stage.name == self._stage.name:
@@ -812,7 +819,7 @@ class Solver:
         if m.begin_stage(stage):
             # the prescribed set changed: a new matrix for the new rows
             self.snes.setJacobian(self._jacobian, *self.linear.operators(m.A))
-        self.options = dataclasses.replace(self._base_options, **stage.solver)
+        self.options = options
         self._previous = None  # no secant predictor across stages
         self._log(f"stage {self._stage_index}: {stage.name}")
         try:

@@ -212,3 +212,28 @@ def test_bad_stages_are_refused_when_made(tmp_path):
     solver.run_stage(textile.Stage("more", ramp={force: [0, 0, 2 * F]}, release=[pull]))
     assert solver.history[-1].stage == "more"
     assert model.reaction(fib, 0)[2] == pytest.approx(-2 * F, rel=1e-9)
+
+
+def test_stage_step_sizes_conflicting_with_the_run_are_refused_before_it_begins():
+    """A stage's step sizes are checked alone when it is made, and against
+    the run's when it starts: a conflict is refused before the stage
+    begins (it used to leave the stage begun, so no stage could follow),
+    and a good stage then runs."""
+    fib, model, force = cantilever()
+    solver = textile.Solver(model, dict(initial_step=0.5, max_step=0.5, verbose=False))
+    solver.run([textile.Stage("load")])
+    steps = len(solver.history)
+    with pytest.raises(ValueError, match="need 0 < min_step <= initial_step <= max_step"):
+        solver.run_stage(textile.Stage("coarse", ramp={force: [0, 0, 2 * F]},
+                                       solver=dict(min_step=0.7)))
+    assert len(solver.history) == steps
+    solver.run_stage(textile.Stage("more", ramp={force: [0, 0, 2 * F]}))
+    assert solver.history[-1].stage == "more"
+    assert model.reaction(fib, 0)[2] == pytest.approx(-2 * F, rel=1e-9)
+
+
+@pytest.mark.parametrize("name", ["verbose", "branch_switching"])
+def test_solver_switches_are_true_or_false(name):
+    """A switch given as text or a number is a named error, not truthy."""
+    with pytest.raises(ValueError, match=f"SolverOptions.{name} must be True or False"):
+        textile.SolverOptions(**{name: "no"})
