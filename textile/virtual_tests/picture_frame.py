@@ -1,5 +1,5 @@
-"""Picture-frame shear of a woven sample (METHOD.md section 8; REFERENCES.md
-items 11-12; the conventions of Cao et al., Composites Part A 39 (2008)).
+"""Picture-frame shear of a woven sample (docs/method.md §10; docs/references.md
+§11-12; the conventions of Cao et al., Composites Part A 39 (2008)).
 
 The frame: the four side bodies (xmin, xmax, ymin, ymax) pin the yarn ends
 of their side (positions follow the arm, the ends turn freely; or one
