@@ -1,6 +1,6 @@
 """The linear solve at the paper's size: one factorization of a woven sample.
 
-Durville's sample (METHOD.md section 8) has 12 yarns of 28 fibres: 336
+Durville's sample (docs/method.md §10) has 12 yarns of 28 fibres: 336
 fibres. With 30 quadratic elements a fibre (61 nodes, 9 unknowns a node)
 its Jacobian has 184,464 unknowns. Until the weaving issue produces the real
 woven state, this script builds a Jacobian with the same structure:

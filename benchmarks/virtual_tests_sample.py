@@ -1,4 +1,4 @@
-"""The paper's virtual tests on its 336-fibre sample (METHOD.md section 8).
+"""The paper's virtual tests on its 336-fibre sample (docs/method.md §10).
 
 Starts from the woven state ``weave_sample.py`` saved (6 x 6 flat yarns of
 28 fibres, plain weave, 2 yarn widths apart; give ``--woven`` for another)

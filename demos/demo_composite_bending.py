@@ -5,7 +5,7 @@ What this demo shows
 The 2 x 2 plain weave of ``demo_plain_weave.py`` (yarns of 7 fibres side by
 side) is woven first (or read from a saved woven state, ``--woven``).
 Then the virtual bending test (``textile.virtual_tests.Bending`` with a
-matrix) adds a matrix around it (METHOD.md sections 6-7):
+matrix) adds a matrix around it (docs/method.md §7-8):
 
 1. **the matrix**: gmsh meshes a box around the woven fibres with
    tetrahedra a few fibre diameters across (not conforming to the fibres:

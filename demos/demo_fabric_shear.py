@@ -5,7 +5,7 @@ What this demo shows
 --------------------
 A 2 x 2 plain weave (flat yarns of ``--fibres`` fibres side by side) is
 woven first (or read from a saved woven state, ``--woven``), then sheared
-twice from that state, once each way (METHOD.md section 8):
+twice from that state, once each way (docs/method.md §10):
 
 1. **the scene** (:class:`textile.sample.Sample`): the woven fibres with
    their crimp, their pre-stress and their contact history; contact with

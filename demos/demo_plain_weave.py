@@ -11,7 +11,7 @@ weave yet: fibres stacked in a yarn roll on each other and the contact
 loop does not settle; the run stops with DIVERGED_EFFECTS_UNSETTLED, its
 converged steps kept.) The weave pattern (plain: warp over, weft over,
 alternating) says which yarn lies on top at each crossing. The solver
-*weaves* the fabric (METHOD.md section 5, Durville 2010):
+*weaves* the fabric (docs/method.md §6, Durville 2010):
 
 1. **weaving stage** (5 load steps): a contact between fibres of a warp
    and a weft yarn takes the vertical as its normal and the sign of its gap

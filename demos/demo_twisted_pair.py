@@ -12,11 +12,11 @@ helix, the contact force grows, and the pair is stiffer than two
 independent straight fibres.
 
 The contact is found through intermediate geometries between the two
-centre lines (METHOD.md section 2): one proximity zone along the pair, with
+centre lines (docs/method.md §3): one proximity zone along the pair, with
 contact elements at the points of a Gauss rule on its intermediate
 geometry, a regularized penalty whose value is re-tuned so that the largest
-penetration stays near its target, and the three nested loops of METHOD.md
-section 4 (elements, normals and penalty, Newton) in every load step.
+penetration stays near its target, and the three nested loops of docs/method.md
+§9.2 (elements, normals and penalty, Newton) in every load step.
 
 What to look at
 ---------------

@@ -2,7 +2,7 @@
 
 What this demo shows
 --------------------
-The straight, coplanar start of METHOD.md section 5 for a plain weave of
+The straight, coplanar start of docs/method.md §6 for a plain weave of
 2 warp and 2 weft yarns of 7 fibres each (hexagonal packing, fibre radius
 0.1 mm, yarns 1 mm apart): every yarn straight, all yarn axes in the plane
 z = 0, so warp and weft interpenetrate at every crossing. Nothing is

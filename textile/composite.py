@@ -1,5 +1,5 @@
 """A textile composite: a woven fabric embedded in an elastic matrix
-(METHOD.md sections 6 and 7), driven through side rigid bodies.
+(docs/method.md §7-8), driven through side rigid bodies.
 
 The scene:
 

@@ -8,7 +8,7 @@ crosses. The crossing order is the pattern tiled over the yarns
 (:mod:`textile.weave_pattern`): ``order[i, j] = 1`` when warp j passes over
 weft i.
 
-The starting state (METHOD.md section 5): every yarn straight, all yarn axes
+The starting state (docs/method.md §6.1): every yarn straight, all yarn axes
 in the plane z = 0, so warp and weft yarns interpenetrate at every crossing;
 the weaving computation pushes them over and under each other.
 

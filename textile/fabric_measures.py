@@ -1,4 +1,4 @@
-"""What a textile researcher measures on a woven state (REFERENCES.md 11).
+"""What a textile researcher measures on a woven state (docs/references.md §11).
 
 All from the fibres' current centre lines (``Model.nodal_unknowns``) and
 the :class:`~textile.fabric.Fabric` that built them:

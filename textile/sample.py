@@ -1,5 +1,5 @@
 """A woven sample driven through side rigid bodies: the scene of the virtual
-tests (METHOD.md section 8), with or without a matrix.
+tests (docs/method.md §10), with or without a matrix.
 
 The scene:
 

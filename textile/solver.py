@@ -129,18 +129,16 @@ class SolverOptions(Options):
         stiffness uses the stress extrapolated linearly from the previous
         iterate, which keeps Newton from overshooting on large rotations) or
         "standard" (the exact tangent every iteration). The converged answer
-        is the same; MIP halves the iterations of a roll-up (measured in
-        benchmarks/newton_iterations.py).
+        is the same (iteration counts: benchmarks/README.md, "Solver
+        options").
     predictor:
         How a step starts: "secant" extrapolates the last converged
-        increment (on a smooth, displacement-driven path: 2 Newton iterations
-        a step instead of 5, and the path stays where it should), which
-        overshoots large rotations and contacts coming on (the penalty law's
-        quadratic part: 19 iterations instead of 12 on a bundle); "none"
-        starts from the last converged state with the new loads and
-        prescribed values; "auto" (default) evaluates both starts and keeps
-        the one with the smaller residual (two residual evaluations a step).
-        Measured in benchmarks/newton_iterations.py.
+        increment, which helps on smooth paths and overshoots large
+        rotations and contacts coming on; "none" starts from the last
+        converged state with the new loads and prescribed values; "auto"
+        (default) evaluates both starts and keeps the one with the smaller
+        residual (two residual evaluations a step). Iteration counts:
+        benchmarks/README.md, "Solver options".
     linear_solver:
         "mumps" (default), "superlu_dist" or "petsc" (serial).
     factorization:

@@ -1,4 +1,4 @@
-"""The weaving computation (METHOD.md section 5): from a fabric's straight,
+"""The weaving computation (docs/method.md §6): from a fabric's straight,
 coplanar, interpenetrating yarns to the woven state.
 
 The scene:
@@ -61,7 +61,7 @@ class Weaving:
     fabric:
         The :class:`~textile.fabric.Fabric` to weave.
     steps:
-        Load steps of the weaving stage (about five, METHOD.md section 5).
+        Load steps of the weaving stage (about five, docs/method.md §6.3).
     relaxation_steps:
         Load steps of the ordinary-contact stage that follows.
     tension:

@@ -146,7 +146,7 @@ TEST(BeamElement, RigidMotionIsStressFree)
 
 TEST(BeamElement, UniaxialTensionIsExact)
 {
-  // REFERENCES.md 1: N = E A lambda (lambda^2 - 1)/2, |g| = sqrt(1 - nu (lambda^2 - 1))
+  // docs/references.md §1: N = E A lambda (lambda^2 - 1)/2, |g| = sqrt(1 - nu (lambda^2 - 1))
   for (int nn : {2, 3})
     for (double lambda : {1.01, 1.10})
     {

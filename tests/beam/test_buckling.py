@@ -1,4 +1,4 @@
-"""Euler buckling of a clamped-free column (REFERENCES.md 4)."""
+"""Euler buckling of a clamped-free column (docs/references.md §4)."""
 import numpy as np
 import pytest
 from mpi4py import MPI

@@ -1,4 +1,4 @@
-"""Small-deflection cantilever (REFERENCES.md 5), shear term with factor 1."""
+"""Small-deflection cantilever (docs/references.md §5), shear term with factor 1."""
 import numpy as np
 import pytest
 from mpi4py import MPI

@@ -1,4 +1,4 @@
-"""Roll-up of a cantilever by an end moment (REFERENCES.md 2, Simo & Vu-Quoc 1986).
+"""Roll-up of a cantilever by an end moment (docs/references.md §2, Simo & Vu-Quoc 1986).
 
 M = 2 pi E I / L bends the fibre into a full ring: theta = t M L / (E I) at
 load factor t, tip at (L sin(theta)/theta, L (1 - cos(theta))/theta). At

@@ -26,7 +26,7 @@ def bar(n=2):
 
 
 def test_force_beyond_the_limit_point_fails_cleanly(tmp_path):
-    """Compression beyond N = 0.19245 E A (the SVK limit point, REFERENCES.md 1)
+    """Compression beyond N = 0.19245 E A (the SVK limit point, docs/references.md §1)
     has no equilibrium: the run must end with ConvergenceError, keep the
     converged steps on disk, and write no NaN."""
     fib, model, EA = bar()

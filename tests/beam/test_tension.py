@@ -1,4 +1,4 @@
-"""Uniaxial tension: exact for this kinematics on any mesh (REFERENCES.md 1)."""
+"""Uniaxial tension: exact for this kinematics on any mesh (docs/references.md §1)."""
 import numpy as np
 import pytest
 from mpi4py import MPI

@@ -1,4 +1,4 @@
-"""Torsion of a round fibre: G J exact (REFERENCES.md 3)."""
+"""Torsion of a round fibre: G J exact (docs/references.md §3)."""
 import numpy as np
 import pytest
 from mpi4py import MPI

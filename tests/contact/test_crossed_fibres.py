@@ -1,4 +1,4 @@
-"""Crossed fibres pressed at mid-span (REFERENCES.md 6).
+"""Crossed fibres pressed at mid-span (docs/references.md §6).
 
 Fibre B, simply supported with span L (one end pinned, the other on a
 roller), lies across a fixed fibre A at mid-span; its ends are lowered by
@@ -14,7 +14,7 @@ from textile.effects.fibre_contact import FibreContact
 
 
 def penetration(force, k, g_r):
-    """Inverse of the regularized penalty law (METHOD.md section 3)."""
+    """Inverse of the regularized penalty law (docs/method.md §4.3)."""
     if force < 0.5 * k * g_r:
         return np.sqrt(2 * g_r * force / k)
     return force / k + g_r / 2

@@ -1,4 +1,4 @@
-"""Parallel fibres, line-contact patch test (REFERENCES.md 7).
+"""Parallel fibres, line-contact patch test (docs/references.md §7).
 
 Fibre A is fixed; fibre B, parallel and touching it, is pressed by a
 uniform line load q. The penetration must be uniform along the overlap and

@@ -1,6 +1,6 @@
-"""Zone penalties retuned between steps (METHOD.md section 3).
+"""Zone penalties retuned between steps (docs/method.md §4.4).
 
-Crossed fibres (REFERENCES.md 6) pressed in 16 steps, from an initial
+Crossed fibres (docs/references.md §6) pressed in 16 steps, from an initial
 penalty 1000x too stiff and one 100x too soft for the target penetration.
 The largest penetration of the zone must settle into the band
 [0.5, 2] x target and stay there; retuning between steps never adds a Newton

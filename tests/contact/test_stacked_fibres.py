@@ -4,7 +4,7 @@ their contact loop settling within each step.
 Three fibres in a triangle per yarn, a 2 x 2 plain weave two yarn widths
 apart, frictionless (``friction=0``: a bundle's default has friction within
 the yarn), through the first 70% of the weaving stage. Each
-cause the contact loop (loops 1-2 of METHOD.md section 4) once failed on is
+cause the contact loop (loops 1-2 of docs/method.md §9.2) once failed on is
 a property of the gap a contact element gives Newton
 (cpp/textile/contact/gap_function.h):
 

@@ -1,4 +1,4 @@
-"""Stick-slip of crossed fibres (REFERENCES.md 8).
+"""Stick-slip of crossed fibres (docs/references.md §8).
 
 Fibre A is fixed; fibre B crosses it at an angle, is pressed onto it by
 lowering its ends (load factor 0 -> 0.3), then pulled along its own axis

@@ -1,4 +1,4 @@
-"""The weaving contact mode (METHOD.md section 5).
+"""The weaving contact mode (docs/method.md §6.2).
 
 Weaving starts from straight, coplanar, interpenetrating yarns; while it
 lasts, contact between fibres of two yarns with a crossing order uses the

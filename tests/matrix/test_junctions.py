@@ -1,7 +1,7 @@
 """Fibre-matrix junctions along the fibres (FibreMatrixJunctions).
 
 Tangent against finite differences, shear-lag pull-out against the
-closed form (REFERENCES.md item 10), independence of the composite
+closed form (docs/references.md §10), independence of the composite
 stiffness from the junction spacing and the matrix mesh size, and (under
 ``mpirun -n 2``) the same answer on 1 and 2 ranks.
 """

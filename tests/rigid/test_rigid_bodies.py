@@ -59,7 +59,7 @@ def test_force_and_displacement_driven_agree():
     assert np.abs(mf.nodal_unknowns() - md.nodal_unknowns()).max() <= 1e-12 * 0.1
     assert md.rigid_bodies.reactions()[1, 0] == pytest.approx(3 * 0.005 * E * A, rel=1e-8)
     assert mf.rigid_bodies.reactions()[1, 0] == pytest.approx(3 * 0.005 * E * A, rel=1e-8)
-    # the end stretches as one fibre in tension (REFERENCES.md 1), less the
+    # the end stretches as one fibre in tension (docs/references.md §1), less the
     # Poisson contraction the bodies block at the ends (about R of 100 R on
     # each side): measured 1.0e-3 stiffer
     lam = 1 + u / 0.1
@@ -69,7 +69,7 @@ def test_force_and_displacement_driven_agree():
 def test_a_full_turn_twists_a_fibre_by_exactly_two_pi():
     """An end body turned by 2 pi about the fibre's axis, the other end
     clamped: the end section comes back exactly, the mid section has turned
-    by pi, and the torque is G J tau (REFERENCES.md 3)."""
+    by pi, and the torque is G J tau (docs/references.md §3)."""
     L = 1000 * R  # tau R = 2 pi / 1000: the SVK correction is below 3e-5
     fib = textile.straight_fibre([0, 0, 0], [L, 0, 0], R, MAT, num_elements=16,
                                  section_vector=[0, 1, 0])

@@ -1,7 +1,7 @@
 """Side rigid bodies: a body per side of a composite sample gathers the
 yarn-end bodies (or fibre end sections) and the matrix nodes of that side.
 
-The scene (REFERENCES.md 9, rule of mixtures): a matrix block L x W x H
+The scene (docs/references.md §9, rule of mixtures): a matrix block L x W x H
 (St Venant-Kirchhoff, the fibres' law) with four straight fibres along x
 overlaid and tied to it, pulled along x by two side bodies that are
 frictionless plates (``slide``): each holds the end face's matrix nodes and

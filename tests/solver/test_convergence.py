@@ -37,7 +37,7 @@ def test_steps_at_the_round_off_floor_converge(n, dt, t_end):
     # measured: 0.2-0.35 eps |K||q| on positions and section vectors
     floors = EPS * model.floors(model.x)
     assert np.all(model.residual_norms <= 10 * floors + 1e-300)
-    # and the answer is the straight column's (REFERENCES.md 1): the stretch
+    # and the answer is the straight column's (docs/references.md §1): the stretch
     # solves lambda (lambda^2 - 1) / 2 = -t P / (E A)
     lam = np.roots([0.5, 0.0, -0.5, t_end * P_CR / (E * np.pi * R ** 2)])
     lam = lam[np.argmin(np.abs(lam - 1))].real

@@ -1,6 +1,6 @@
 """Contact with extreme parameters: converge to the known answer.
 
-Crossed fibres pressed at mid-span (REFERENCES.md 6): B, pinned at both
+Crossed fibres pressed at mid-span (docs/references.md §6): B, pinned at both
 ends over a span L, lies across a fixed fibre A; its ends are lowered by
 delta: delta = f L^3 / (48 E I_B) + p(f), p the law's penetration at the
 contact force f. Every case writes an Output directory that the guard

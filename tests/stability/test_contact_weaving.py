@@ -1,4 +1,4 @@
-"""The weaving start of a 2x2 plain weave (METHOD.md section 5): straight,
+"""The weaving start of a 2x2 plain weave (docs/method.md §6): straight,
 coplanar, interpenetrating yarns of 3 flat fibres are pushed over and under
 each other in a weaving stage, then relax in ordinary contact; the crossing
 order holds. The Output directory is checked and the Newton count guarded.

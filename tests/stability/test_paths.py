@@ -44,7 +44,7 @@ def case(name: str, dt: float, slenderness: float) -> str:
 
 def elastica_load(fib, model) -> float:
     """P/P_cr of the inextensible elastica at the column's tip rotation
-    alpha (REFERENCES.md 4): (2 K(sin(alpha/2)) / pi)^2."""
+    alpha (docs/references.md §4): (2 K(sin(alpha/2)) / pi)^2."""
     x = model.centreline(fib)
     t = x[-1] - x[-2]
     alpha = np.arctan2(abs(t[2]), t[0])
@@ -112,7 +112,7 @@ def test_branch_switching_follows_the_buckled_column(out, dt, slenderness):
 
 def bar(elements=2):
     """A bar held straight (lateral dofs fixed): compression has a limit
-    point at stretch 1/sqrt(3), N = -0.19245 E A (REFERENCES.md 1)."""
+    point at stretch 1/sqrt(3), N = -0.19245 E A (docs/references.md §1)."""
     fib = textile.straight_fibre([0, 0, 0], [0.05, 0, 0], R, textile.Material(E, NU),
                                  num_elements=elements, section_vector=[0, 1, 0])
     model = textile.Model(fib, comm=MPI.COMM_SELF)

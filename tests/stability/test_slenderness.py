@@ -46,7 +46,7 @@ def column(young: float, slenderness: float, comm=MPI.COMM_SELF):
 
 def elastica_load(fib, model) -> float:
     """P/P_cr of the inextensible elastica at the column's tip rotation
-    alpha (REFERENCES.md 4): (2 K(sin(alpha/2)) / pi)^2."""
+    alpha (docs/references.md §4): (2 K(sin(alpha/2)) / pi)^2."""
     x = model.centreline(fib)
     t = x[-1] - x[-2]
     alpha = np.arctan2(np.hypot(t[1], t[2]), t[0])

@@ -1,5 +1,5 @@
 """The weaving start: straight, coplanar yarns interpenetrating at every
-crossing (METHOD.md section 5), at three crossing densities. Each weaves
+crossing (docs/method.md §6), at three crossing densities. Each weaves
 through both stages to a fabric that follows its pattern, with no fibre
 through another, forces in balance and clean output."""
 import numpy as np

@@ -1,5 +1,5 @@
 """The weaving computation: straight, interpenetrating yarns become a fabric
-that follows its pattern (METHOD.md section 5)."""
+that follows its pattern (docs/method.md §6)."""
 import numpy as np
 import pytest
 from mpi4py import MPI

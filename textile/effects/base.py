@@ -132,7 +132,7 @@ class Effect:
             raise ValueError(f"{type(self).__name__} takes no stage options, got "
                              f"{sorted(options)}")
 
-    # -- load-step protocol (METHOD.md section 4) ------------------------
+    # -- load-step protocol (docs/method.md §9.2) ------------------------
     def prepare(self, model) -> None:
         """Start of a load-step attempt, at the predicted state: set up what
         Newton holds fixed (e.g. contact elements and normals)."""

@@ -2,7 +2,7 @@
 
 Detection, geometry, normals, history transfer, laws, penalty adaptation
 and assembly are in C++ (``cpp/textile/contact/``); this effect runs the
-algorithm of METHOD.md section 4 around Newton and does the few MPI
+algorithm of docs/method.md §9.2 around Newton and does the few MPI
 reductions, all on per-zone arrays (zone numbers come from the replicated
 detection pass, so every rank agrees on them):
 
@@ -19,7 +19,7 @@ detection pass, so every rank agrees on them):
 - ``commit`` (step accepted): friction return mapping (stick points).
 
 Modes (``configure``, e.g. from a :class:`textile.Stage`): ``"ordinary"``
-(the default) and ``"weaving"`` (METHOD.md section 5): elements between
+(the default) and ``"weaving"`` (docs/method.md §6.2): elements between
 fibres of two yarns with a crossing order take the vertical as normal,
 oriented by that order (``weaving_order.h``; build the order of a fabric
 with :func:`textile.effects.weaving_contact.weaving_mode`). When the mode
@@ -115,7 +115,7 @@ class ContactOptions(Options):
         After a converged Newton, the elements are re-detected and re-normaled
         at the new state; another Newton is run when the contact forces of the
         new set differ from the old set's, at that state, by more than this
-        fraction of their norm (loops 1-2 of METHOD.md section 4).
+        fraction of their norm (loops 1-2 of docs/method.md §9.2).
     """
 
     search_factor: float = 2.0

@@ -4,7 +4,7 @@ Each junction pairs a *material particle* of a fibre element -- a point of
 its section at section coordinates (c1, c2) and element coordinate xi --
 with the material point of an
 :class:`~textile.effects.elastic_block.ElasticBlock` at the same place
-(METHOD.md sections 1 and 6), and stores the penalty energy
+(docs/method.md §1.1 and §8.2), and stores the penalty energy
 
     E_j = 1/2 k w_j |x_f - x_m|^2,
     x_f = sum_a N_a(xi) (x0_a + c1 g1_a + c2 g2_a)   (fibre particle),

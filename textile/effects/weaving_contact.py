@@ -1,4 +1,4 @@
-"""The weaving contact mode's crossing order, from a fabric (METHOD.md section 5).
+"""The weaving contact mode's crossing order, from a fabric (docs/method.md §6.2).
 
 During the weaving stage, contact between fibres of a warp yarn and a weft
 yarn uses the vertical as its normal, oriented by which yarn lies on top at

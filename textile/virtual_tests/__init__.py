@@ -1,4 +1,4 @@
-"""Virtual tests on woven samples and composites (METHOD.md section 8):
+"""Virtual tests on woven samples and composites (docs/method.md §10):
 tension, shear (the paper's set-up and the picture frame), bending and
 twisting, each driven by side rigid bodies from a saved woven state, with a
 load curve (CSV, PNG), ParaView output per step and the test's figures."""

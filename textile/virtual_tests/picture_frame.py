@@ -1,5 +1,5 @@
-"""Picture-frame shear of a woven sample (METHOD.md section 8; REFERENCES.md
-items 11-12; the conventions of Cao et al., Composites Part A 39 (2008)).
+"""Picture-frame shear of a woven sample (docs/method.md §10; docs/references.md
+§11-12; the conventions of Cao et al., Composites Part A 39 (2008)).
 
 The frame: the four side bodies (xmin, xmax, ymin, ymax) pin the yarn ends
 of their side (positions follow the arm, the ends turn freely; or one
@@ -57,8 +57,8 @@ at both ends would otherwise have a zero-stiffness spin). Each fibre of a
 yarn of several fibres then gets its own pin on the arm: as the arm turns
 against the yarn, those pins (a fibre diameter apart along the arm) come
 closer than a diameter across the yarn, so such yarns resist from the
-first degree on (measured: a force a thousand times a monofilament's), a
-boundary effect of the pins, not locking. With "yarn" each yarn end is
+first degree on, a boundary effect of the pins, not locking (figures in
+benchmarks/README.md, "Picture frame"). With "yarn" each yarn end is
 clamped by a body of its own (the Sample's split sides): its fibres keep
 their layout and turn together; the body's centre (the mean of its fibre
 ends, the pin point on the arm) follows the arm, its rotation about z is
@@ -68,33 +68,11 @@ so the frame's corners are checked from the side bodies
 (:meth:`PictureFrame.corner_positions`) and the pins from either
 (:meth:`PictureFrame.pin_positions`).
 
-Stiffening, not locking (tests/virtual/test_picture_frame.py; figures in
-benchmarks/README.md): in 2 x 2 plain weaves of flat 2-fibre yarns 2.5 and
-2.75 widths apart the tangent stiffness rises progressively, fivefold
-above its first interval's several degrees below the pin-joint bound, and
-no parallel yarns touch: the crossings, turned by 60 deg and more, press
-the bowed yarns' fibres together. The first interval is the stiffest
-before that: every contact starts sticking, and the tangent then falls to
-a twentieth of it while the crossings slip and the yarns bow into an S.
-
-What the sample needs: crossings several elements from the yarn clamps.
-With the default free length (half a spacing: the last crossing one
-element from its clamp) every sample stopped at 11-44 deg, no yarns
-touching: a crossing pressed next to a clamp switched between a point
-crossing and a line contact from pass to pass, or the clamped element
-inverted. Two properties of the contact detection were needed as well
-(detection.h, intermediate_geometry.h): crossings take centre-line
-tangents blended across kinked nodes (the crossing's normal swung by the
-kink angle as the crossing moved across the node between passes), and a
-zone keeps its kind (crossing or line contact) until the criterion fails
-by a margin (and outright within a step). Without them the 2.5-width
-sample above stopped at 54.6 deg.
-
-Monofilaments with per-fibre pins (tests/virtual): 6 widths apart the
-fibres' shear angle exceeds the frame's by 2.5 % (the yarns bow slightly
-towards the centre). Flat yarns with per-fibre pins resist from the first
-degree (the pins of a yarn's fibres close as the arm turns, Pins above):
-use yarn pins for multi-fibre yarns.
+Stiffening, not locking: in the tests' small flat-yarn weaves the tangent
+stiffness rises progressively below the pin-joint bound before any parallel
+yarns touch (tests/virtual/test_picture_frame.py; the measured figures and
+what the sample needs, crossings several elements from the yarn clamps, in
+benchmarks/README.md, "Picture frame"). Use yarn pins for multi-fibre yarns.
 
 Units: those of the fabric; ``angle`` and rotations in radians, reported
 angles in degrees.

@@ -1,4 +1,4 @@
-"""In-plane shear of a woven sample as in the paper (METHOD.md section 8).
+"""In-plane shear of a woven sample as in the paper (docs/method.md §10).
 
 The body of side xmin clamps the warp yarns' start sections (fixed); the
 body of xmax clamps their end sections and is moved parallel to itself,
@@ -62,7 +62,7 @@ class Shear(VirtualTest):
 
 def locking_bound(fabric) -> float:
     """The pin-joint bound of the shear locking angle, arccos(w/p) in
-    degrees (REFERENCES.md 12): the shear angle at which neighbouring
+    degrees (docs/references.md §12): the shear angle at which neighbouring
     parallel yarns, of width w and spacing p, touch side to side (the
     narrower of the two directions' bounds)."""
     ratios = [min(1.0, fabric.warp.width / fabric.spacing[0]),

@@ -1,4 +1,4 @@
-"""Twisting of a woven sample or composite (METHOD.md section 8).
+"""Twisting of a woven sample or composite (docs/method.md §10).
 
 The bodies of sides xmin and xmax clamp the warp yarns' end sections (and,
 in a composite, the matrix faces) and turn by opposite angles about x, the

@@ -10,7 +10,7 @@
 // section points and expressed in the local frame (e1, e2, e3) of the
 // reference section (e3 the reference tangent).
 //
-// Poisson locking cure (METHOD.md section 1): at each axial point the strain
+// Poisson locking cure (docs/method.md §2.2): at each axial point the strain
 // is split into its section average Ebar and the fluctuation dE = E - Ebar,
 // and the stored energy density is
 //     W = 1/2 Ebar : C : Ebar + 1/2 E (dE33)^2 + 2 mu (dE13^2 + dE23^2).

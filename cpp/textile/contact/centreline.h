@@ -1,7 +1,7 @@
 // Current centre lines of the fibres, as seen by contact detection.
 //
 // Only the centroids x0 of the nodes are needed to find proximity zones
-// (METHOD.md section 2.1), so this view holds 3 numbers per node instead of
+// (docs/method.md §3.2), so this view holds 3 numbers per node instead of
 // the 9 unknowns of the beam element. Nodes are numbered fibre after fibre,
 // as in textile/fibre_mesh.py; element e of fibre f has the nodes
 // order*e + a, a = 0..order, counted from the fibre's first node.

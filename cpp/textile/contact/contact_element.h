@@ -2,7 +2,7 @@
 //
 // Within a Newton solve the element is fixed: each particle is a material
 // point (element abscissa xi and section coordinates xi1, xi2) and the
-// normal N is held constant (METHOD.md section 4, loops 1-2 update them).
+// normal N is held constant (docs/method.md §9.2, loops 1-2 update them).
 // The gap is the distance along N between the two deformed sections at
 // the particles' abscissas,
 //     gap = N . (x0_i - x0_j) - h_i(N) - h_j(N),  h(N) = R |(g1.N, g2.N)|,

@@ -1,4 +1,4 @@
-// The normal of a contact element (METHOD.md section 3).
+// The normal of a contact element (docs/method.md §4.1).
 #pragma once
 
 #include <Eigen/Dense>

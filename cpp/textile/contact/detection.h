@@ -1,5 +1,5 @@
 // One detection pass: proximity zones, then contact elements on their
-// intermediate geometries (METHOD.md section 2).
+// intermediate geometries (docs/method.md §3).
 #pragma once
 
 #include "centreline.h"

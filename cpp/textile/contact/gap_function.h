@@ -1,13 +1,13 @@
 // The gap of a contact element as a function of its two fibres' unknowns
 // within one Newton solve, with its exact gradient and Hessian.
 //
-// A detection pass (METHOD.md section 2) places an element's particles and
+// A detection pass (docs/method.md §3) places an element's particles and
 // sets its normal N; Newton then sees the gap as a function of the unknowns
 // alone. How much of the element's geometry moves with the unknowns is the
 // element's *gap kind*. With r = x0_i(u) - x0_j(v) the centre lines' offset
 // at the points measured (patch coordinates u, v, particle.h):
 //
-// - held: u, v at the particles, N fixed (METHOD.md section 4 as the paper
+// - held: u, v at the particles, N fixed (docs/method.md §4.2 as the paper
 //   has it):  gap = N . r - h_i - h_j,
 //   h = R |(g1.N, g2.N)| the section's extent along N (its support, so a
 //   section turning about its axis does not change the gap).

@@ -1,5 +1,5 @@
 // History of contact elements carried from one detection pass to the next
-// (METHOD.md sections 3-4).
+// (docs/method.md §3.7).
 //
 // Each pass (loops 1-2) makes new elements; a new element takes over the
 // history of the old element "at the same place": the same ordered fibre

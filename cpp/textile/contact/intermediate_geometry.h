@@ -1,5 +1,5 @@
 // Intermediate geometry of a proximity zone and the contact elements on it
-// (METHOD.md section 2, steps 2-5).
+// (docs/method.md §3.4-3.5).
 //
 // For a zone [a_i, b_i] x [a_j, b_j] between fibres i and j,
 //     x_int(s) = 1/2 [x0_i((1-s) a_i + s b_i) + x0_j((1-s) a_j + s b_j)],  s in [0, 1],

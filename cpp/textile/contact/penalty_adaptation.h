@@ -1,4 +1,4 @@
-// Retuning of the zone penalties (METHOD.md section 3).
+// Retuning of the zone penalties (docs/method.md §4.4).
 //
 // Each proximity zone has one penalty k_c (per unit length, contact_set.h),
 // tuned so that the zone's largest penetration p stays near a target p_t,

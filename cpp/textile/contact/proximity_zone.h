@@ -1,5 +1,5 @@
 // Proximity zones: where two centre lines (or two distant parts of one)
-// come closer than a criterion, METHOD.md section 2.1.
+// come closer than a criterion, docs/method.md §3.2.
 //
 // Detection runs in three stages:
 //  1. broad phase (broad_phase.h): candidate segment pairs from a grid;
@@ -108,7 +108,7 @@ std::vector<ProximityZone> group_into_zones(std::span<const Segment> segments,
 /// @param c              centre lines (validated here).
 /// @param delta_factor   criterion: the centre lines are close where their
 ///                       distance is below delta_factor (r_i + r_j); > 0
-///                       (METHOD.md: "a few radii", so typically 1.5 to 3).
+///                       (docs/method.md §3.2: "a few radii", so typically 1.5 to 3).
 /// @param self_exclusion length (unit of the coordinates, >= 0) along a
 ///                       fibre below which two of its parts are neighbours,
 ///                       not a self contact; make it larger than

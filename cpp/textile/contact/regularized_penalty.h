@@ -1,4 +1,4 @@
-// Quadratically regularized penalty law (METHOD.md section 3).
+// Quadratically regularized penalty law (docs/method.md §4.3).
 #pragma once
 
 #include "normal_law.h"

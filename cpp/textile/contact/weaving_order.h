@@ -1,4 +1,4 @@
-// The crossing order of the weaving stage (METHOD.md section 5).
+// The crossing order of the weaving stage (docs/method.md §6.2).
 //
 // Weaving starts from straight, coplanar, interpenetrating yarns. While it
 // lasts, a contact element between fibres of two yarns that cross in a

@@ -1,5 +1,5 @@
 // One fibre-matrix junction: a material particle of a fibre element tied to
-// the matrix point at the same place (METHOD.md section 6).
+// the matrix point at the same place (docs/method.md §8.2).
 #pragma once
 
 #include <span>
@@ -14,7 +14,7 @@ namespace textile::junction
 /// with N_a the fibre element's Lagrange shape functions (2 or 3 nodes,
 /// beam/shape_functions.h) at the particle's coordinate xi in [-1, 1],
 /// (c1, c2) the particle's section coordinates (0, 0 for the centre line;
-/// METHOD.md section 1), x0_a, g1_a, g2_a = X_a + u_a the element nodes'
+/// docs/method.md §1.1), x0_a, g1_a, g2_a = X_a + u_a the element nodes'
 /// current centroid and section vectors (9 unknowns a node), X_m the matrix
 /// point's reference position, phi_b the matrix cell's basis values there
 /// (any number of cell nodes: 4 for P1, 10 for P2, ...) and u_b their

@@ -8,7 +8,7 @@
 //     x0 = C + u + R (X - C),   g1 = R G1,   g2 = R G2,
 // so the section turns with the body and keeps its reference shape: the
 // end cannot contract by Poisson's effect, which stiffens the fibre over a
-// length of about its radius next to the body (REFERENCES.md caveat). A
+// length of about its radius next to the body (docs/references.md, caveats). A
 // coupled *point* (e.g. a matrix node) follows in position only.
 //
 // With the constraint C(q, w) = q - phi(w) (9 or 3 rows) and multipliers
