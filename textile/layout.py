@@ -21,7 +21,10 @@ from dataclasses import dataclass
 
 import numpy as np
 from petsc4py import PETSc
-from dolfinx import cpp as _cpp
+
+from .dolfinx_core import load as _load_core
+
+_cpp = _load_core()   # dolfinx's compiled core alone (textile.dolfinx_core)
 
 
 @dataclass

@@ -239,7 +239,9 @@ class FibreContact(Effect):
 
     @property
     def symmetric_tangent(self) -> bool:
-        """Frictionless contact derives from a potential at fixed normals."""
+        """Frictionless contact derives from a potential at fixed normals.
+        From the coefficients, whatever the stage's ``friction`` switch: the
+        solver chooses its factorization once for the whole run."""
         return not self.has_friction
 
     @property
@@ -250,8 +252,20 @@ class FibreContact(Effect):
 
     @property
     def has_friction(self) -> bool:
-        """Some pair of fibres has friction (between or within yarns)."""
+        """Some pair of fibres has friction (between or within yarns), in
+        the stages where friction is on."""
         return self.options.friction > 0 or bool(np.any(self._yarn_mu > 0))
+
+    @property
+    def friction_on(self) -> bool:
+        """The current stage's ``friction`` switch (True unless a stage set
+        it False): off, every pair is frictionless and no contact element
+        has a friction law or history (a stick point to follow)."""
+        return self._friction_on
+
+    def _mu(self) -> float:
+        """The coefficient between yarns (or of every pair) in this stage."""
+        return self.options.friction if self._friction_on else 0.0
 
     MODES = ("ordinary", "weaving")
 
@@ -278,10 +292,11 @@ class FibreContact(Effect):
         self._woven = None           # the order of a woven fabric, after its weaving stage
         self._woven_arrays = None    # ... as fibre_yarn and yarn_above (saved states)
         self._weaving_done = False   # the weaving stage reached its end (depths made up)
+        self._friction_on = True     # the stage option friction
 
     # -- stage options ---------------------------------------------------------
     def configure(self, mode: str | None = None, fibre_yarn=None, yarn_above=None,
-                  **unknown) -> None:
+                  friction: bool | None = None, **unknown) -> None:
         """Stage options: ``mode="ordinary"``, or ``mode="weaving"`` with
         ``fibre_yarn`` (yarn of each fibre, in the model's fibre order) and
         ``yarn_above`` ((yarns, yarns): +1 if yarn a lies above yarn b at
@@ -294,10 +309,22 @@ class FibreContact(Effect):
         state is made up progressively over the stage: an ordered element's
         gap is shifted by (1 - s) times its pair's reference penetration at
         stage progress s (``ContactSet.set_depth_scale``), so each load step
-        pushes the yarns apart by its share, and a cut step pushes less."""
+        pushes the yarns apart by its share, and a cut step pushes less.
+
+        ``friction=False``: the stage is frictionless (every pair, whatever
+        the coefficients): its contact elements get no friction law and no
+        history; ``friction=True`` turns the contact's coefficients back on,
+        every contact sticking where it is (``reset_friction``). None (or
+        not given): as in the previous stage. Only ``friction`` given:
+        the mode stays as it is."""
         if unknown:
             raise ValueError(f"FibreContact.configure: unknown option(s) {sorted(unknown)}; "
-                             f"allowed: mode, fibre_yarn, yarn_above")
+                             f"allowed: mode, fibre_yarn, yarn_above, friction")
+        if friction is not None and not isinstance(friction, (bool, np.bool_)):
+            raise ValueError(f"FibreContact: friction must be True or False, got {friction!r}")
+        if mode is None and fibre_yarn is None and yarn_above is None:
+            self._switch_friction(friction)
+            return
         mode = self.mode if mode is None else mode
         if mode not in self.MODES:
             raise ValueError(f"FibreContact: mode must be one of {self.MODES}, got {mode!r}")
@@ -323,6 +350,16 @@ class FibreContact(Effect):
         if mode != self.mode:
             self._reset_normals = True
         self.mode = mode
+        self._switch_friction(friction)
+
+    def _switch_friction(self, on: bool | None) -> None:
+        if on is None or bool(on) == self._friction_on:
+            return
+        self._friction_on = bool(on)
+        if self._friction_on and self._committed is not None:
+            # the stick points are those of the last stage with friction:
+            # start afresh from here
+            self.reset_friction(self.model)
 
     def _check_order(self) -> None:
         model = getattr(self, "model", None)
@@ -389,10 +426,12 @@ class FibreContact(Effect):
                                     keep_kinds)
 
     def _friction_args(self) -> dict:
-        """The fibres' yarns and the yarns' coefficients (ContactSet.next)."""
+        """The fibres' yarns and the yarns' coefficients (ContactSet.next),
+        zero in a stage with friction off."""
         if self._fibre_groups is None:
             return {}
-        return dict(group=self._fibre_groups, group_mu=self._yarn_mu)
+        return dict(group=self._fibre_groups,
+                    group_mu=self._yarn_mu if self._friction_on else np.zeros_like(self._yarn_mu))
 
     def _contacts_to_hold(self, q: np.ndarray) -> dict:
         """The closed elements of every rank (at the set's last evaluation)
@@ -432,7 +471,7 @@ class FibreContact(Effect):
         self.held_contacts += found.held
         before = old.nodal_forces(q)
         new, inherited = old.next(found, q, mesh.first_node, mesh.order, self.radius, self.k0,
-                                  self.g_r, o.friction, self.u_rev,
+                                  self.g_r, self._mu(), self.u_rev,
                                   math.radians(o.parallel_angle), mesh.owned,
                                   self._order if self.mode == "weaving" else None,
                                   reset_normals, self._woven, persist, **self._friction_args())
@@ -647,7 +686,8 @@ class FibreContact(Effect):
         if self._woven is not None:
             out.update(woven_fibre_yarn=np.asarray(self._woven_arrays["fibre_yarn"]),
                        woven_yarn_above=np.asarray(self._woven_arrays["yarn_above"]))
-        out.update(weaving_done=np.int64(self._weaving_done))
+        out.update(weaving_done=np.int64(self._weaving_done),
+                   friction_on=np.int64(self._friction_on))
         return out
 
     def check_state(self, model, data: dict) -> None:
@@ -677,6 +717,7 @@ class FibreContact(Effect):
             self.configure(mode=mode)
         self._reset_normals = bool(data["reset_normals"])
         self._weaving_done = bool(data.get("weaving_done", False))
+        self._friction_on = bool(data.get("friction_on", True))
         if "woven_fibre_yarn" in data:
             self._woven_arrays = dict(fibre_yarn=np.asarray(data["woven_fibre_yarn"]),
                                       yarn_above=np.asarray(data["woven_yarn_above"]))
@@ -689,10 +730,10 @@ class FibreContact(Effect):
     def _restore(self, model, columns: dict, num_zones: int) -> None:
         """Elements from saved columns (ContactSet.data() of all ranks or of
         this one), evaluated at the model's unknowns, as the committed set."""
-        mesh, o = model.mesh, self.options
+        mesh = model.mesh
         q = model.beam_positions(model.state())
         self.set = _cpp.ContactSet.from_saved(columns, num_zones, q, mesh.first_node,
-                                              mesh.order, self.radius, self.g_r, o.friction,
+                                              mesh.order, self.radius, self.g_r, self._mu(),
                                               self.u_rev, mesh.owned, **self._friction_args())
         self.set.evaluate(q)  # results at the loaded state, as after a commit
         self._committed = self.set.copy()
@@ -704,8 +745,9 @@ class FibreContact(Effect):
         where it is, with no tangential force (its stick point moved by its
         elastic slip). A test starting from a woven state: the yarns reached
         their places slipping, at the friction limit, where a free yarn has
-        no tangential stiffness. No-op without friction."""
-        if not self.has_friction:
+        no tangential stiffness. No-op without friction (or with the
+        stage's friction off)."""
+        if not (self.has_friction and self._friction_on):
             return
         d = self._committed.data()
         columns = {k: np.asarray(d[k]) for k in self.SAVED}

@@ -38,14 +38,16 @@ error, found from the one constrained set every effect sees (state.dofs).
 from __future__ import annotations
 
 import numpy as np
-from dolfinx import cpp as _dcpp
 from mpi4py import MPI
 
 from .. import _cpp
 from ..block_nodes import select_block_nodes
+from ..dolfinx_core import load as _load_core
 from ..layout import Field
 from ..rigid_body import BODY_DOFS, RigidBody
 from .base import Effect, State
+
+_dcpp = _load_core()   # dolfinx's compiled core alone (textile.dolfinx_core)
 
 #: Coupling kinds (the third entry of saved coupling keys).
 PIN, SECTION, BLOCK_NODE = 0, 1, 2
