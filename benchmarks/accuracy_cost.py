@@ -25,7 +25,6 @@ import csv
 import json
 import math
 import os
-import sys
 import time
 
 import numpy as np
@@ -82,7 +81,7 @@ def rollup(order, axial_points, section_order, n_el, poisson_cure=True):
         tip = m.centreline(0)[-1]
         err = float(np.linalg.norm(tip - np.array([0.0, 2 * L / math.pi, 0.0])) / L)
         note = ""
-    except textile.ConvergenceError as e:
+    except textile.ConvergenceError:
         err, note = float("nan"), "no convergence"
     wall = time.perf_counter() - t0
     its = sum(r.newton_iterations for r in s.history)
