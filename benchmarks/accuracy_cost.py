@@ -25,7 +25,6 @@ import csv
 import json
 import math
 import os
-import sys
 import time
 
 import numpy as np
@@ -82,7 +81,7 @@ def rollup(order, axial_points, section_order, n_el, poisson_cure=True):
         tip = m.centreline(0)[-1]
         err = float(np.linalg.norm(tip - np.array([0.0, 2 * L / math.pi, 0.0])) / L)
         note = ""
-    except textile.ConvergenceError as e:
+    except textile.ConvergenceError:
         err, note = float("nan"), "no convergence"
     wall = time.perf_counter() - t0
     its = sum(r.newton_iterations for r in s.history)
@@ -156,11 +155,12 @@ def main(argv=None):
 
     def emit(row):
         rows.append(row)
-        tpi = row["wall_time"] / row["newton_iterations"] if row["newton_iterations"] else float("nan")
+        n_its = row["newton_iterations"]
+        tpi = row["wall_time"] / n_its if n_its else float("nan")
         row["time_per_iteration"] = tpi
-        print(f"{row['case']:9s} {row['element']:7s} {row['elements']:5d} {row['section_order']:3d} "
-              f"{row['error']:10.3e} {row['wall_time']:8.3f} {row['newton_iterations']:6d} "
-              f"{tpi:8.4f}  {row['note']}", flush=True)
+        print(f"{row['case']:9s} {row['element']:7s} {row['elements']:5d} "
+              f"{row['section_order']:3d} {row['error']:10.3e} {row['wall_time']:8.3f} "
+              f"{n_its:6d} {tpi:8.4f}  {row['note']}", flush=True)
 
     # warm-up (imports, PETSc/MUMPS first-call costs) so the first row is fair
     rollup(2, 2, 4, 4)
@@ -213,7 +213,8 @@ def main(argv=None):
                             xytext=(2, 2), textcoords="offset points")
         nc = [r for r in rows if r["case"] == case and r["element"].endswith("nocure")]
         for r in nc:
-            ax.loglog([r["wall_time"]], [r["error"]], "kx", ms=9, label="quad2, poisson_cure=False")
+            ax.loglog([r["wall_time"]], [r["error"]], "kx", ms=9,
+                      label="quad2, poisson_cure=False")
         ax.set_xlabel("wall time [s]")
         ax.set_ylabel("relative error")
         ax.set_title({"rollup": "roll-up to theta = pi (tip error / L)",

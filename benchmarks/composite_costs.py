@@ -24,7 +24,6 @@ import os
 import resource
 import time
 
-import numpy as np
 from mpi4py import MPI
 
 import textile

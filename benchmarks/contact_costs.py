@@ -102,7 +102,8 @@ def detection_scaling(base: int, repeats: int) -> list[dict]:
     for r in rows:
         r["time_ratio"] = r["seconds"] / rows[0]["seconds"]
         r["wall_ratio"] = r["wall_seconds"] / rows[0]["wall_seconds"]
-        r["work_ratio"] = (r["segments"] + r["elements"]) / (rows[0]["segments"] + rows[0]["elements"])
+        r["work_ratio"] = ((r["segments"] + r["elements"])
+                           / (rows[0]["segments"] + rows[0]["elements"]))
     return rows
 
 
@@ -245,7 +246,8 @@ def bundle_run(rings: int, elements: int, adapt: bool, solver_options: dict) -> 
     stats = solver.history[-1].effects
     at_state = assembly_at_converged_state(model, contact)
     return dict(
-        adapt_penalty=adapt, solver_options=solver_options, fibres=len(model.mesh.fibres), elements_per_fibre=elements,
+        adapt_penalty=adapt, solver_options=solver_options, fibres=len(model.mesh.fibres),
+        elements_per_fibre=elements,
         unknowns=model.A.getSize()[0], steps=len(solver.history),
         newton_iterations=iterations, newton_solves=n["newton solves"],
         failed_newton_solves=n["failed newton solves"],
@@ -353,7 +355,8 @@ def main():
               f"elements ({b['active_contacts']} active); {b['steps']} steps, "
               f"{b['newton_iterations']} Newton iterations in {b['newton_solves']} Newton solves "
               f"({b['failed_newton_solves']} failed), {b['jacobian_evaluations']} Jacobian "
-              f"evaluations, {b['factorizations']} LU factorizations, {b['matrix_rebuilds']} matrix rebuilds; "
+              f"evaluations, {b['factorizations']} LU factorizations, "
+              f"{b['matrix_rebuilds']} matrix rebuilds; "
               f"{b['total_seconds']:.2f} s wall, {b['cpu_seconds']:.2f} s CPU")
         print(f"{'part':<30} {'seconds':>9} {'per Newton it [ms]':>19}")
         for k, v in b["split_seconds"].items():

@@ -69,8 +69,9 @@ def main():
                          max_position_difference_over_radius=diff / R))
         r = rows[-1]
         print(f"{name:<36} {r['newton_iterations']:3d} its ({r['failed_newton_solves']} failed "
-              f"solves), {r['factorizations']:3d} factorizations ({r['factorization_seconds']:.2f} "
-              f"s), {krylov:4d} GMRES orthogonalizations, {r['total_seconds']:6.2f} s, positions "
+              f"solves), {r['factorizations']:3d} factorizations "
+              f"({r['factorization_seconds']:.2f} s), {krylov:4d} GMRES orthogonalizations, "
+              f"{r['total_seconds']:6.2f} s, positions "
               f"differ by {r['max_position_difference_over_radius']:.1e} R")
     os.makedirs(OUT, exist_ok=True)
     with open(os.path.join(OUT, "factorization_reuse.json"), "w") as f:

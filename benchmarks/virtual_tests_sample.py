@@ -187,6 +187,7 @@ def main():
     results = dict(woven=args.woven, tests=kept)
     for name in args.tests:
         steps = args.steps_shear if name == "shear" else args.steps_rotation
+
         def progress(partial, _done=list(results["tests"])):
             if comm.rank == 0:
                 os.makedirs(OUT, exist_ok=True)
@@ -200,7 +201,8 @@ def main():
         if comm.rank == 0:
             paper = PAPER[name]
             print(f"\n{name}: {out['wall_seconds']:.0f} s for {len(out.get('steps', []))} of "
-                  f"{steps} steps ({out['unknowns']} unknowns){' FAILED: ' + out['error'] if out['error'] else ''}")
+                  f"{steps} steps ({out['unknowns']} unknowns)"
+                  f"{' FAILED: ' + out['error'] if out['error'] else ''}")
             for s in out.get("steps", []):
                 print(f"  step {s['step']:3d}  newton {s['newton_iterations']:3d}  "
                       f"{s['wall_seconds']:7.1f} s   (paper: ~{paper['hours_per_step']:.0f} h, "

@@ -69,10 +69,10 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
     name = pattern.replace(" ", "_").replace("/", "-")
     textile.save_state(model, os.path.join(OUT, f"weave_sample_{name}.h5"), solver,
                        fibre_data={"yarn": fabric.fibre_yarn})
-    return dict(pattern=pattern, fibres_per_yarn=fibres, packing=packing, spacing_in_widths=spacing,
-                weaving_steps=weaving_steps, solver_options=solver_options, size=size,
-                wall_seconds=wall, counters=solver.counters,
-                steps=steps, summary=summary, error=error)
+    return dict(pattern=pattern, fibres_per_yarn=fibres, packing=packing,
+                spacing_in_widths=spacing, weaving_steps=weaving_steps,
+                solver_options=solver_options, size=size, wall_seconds=wall,
+                counters=solver.counters, steps=steps, summary=summary, error=error)
 
 
 def run_key(r: dict) -> tuple:

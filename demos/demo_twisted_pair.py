@@ -46,7 +46,8 @@ parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--output", default=os.path.join(os.path.dirname(__file__), "output",
                                                      "demo_twisted_pair"))
 parser.add_argument("--elements", type=int, default=24, help="elements per fibre")
-parser.add_argument("--stretch", type=float, default=0.01, help="axial strain applied after the twist")
+parser.add_argument("--stretch", type=float, default=0.01,
+                    help="axial strain applied after the twist")
 args = parser.parse_args()
 
 # Geometry and material: polyamide-like fibres, 1 mm diameter, 20 mm long.
@@ -96,7 +97,7 @@ def axial_force(m):
 
 
 output = textile.Output(args.output, extra=lambda m: {"axial_force": axial_force(m),
-                                                       "lift": lift(m.load_factor)})
+                                                      "lift": lift(m.load_factor)})
 solver = textile.Solver(model, dict(initial_step=0.02, max_step=0.05), output=output)
 solver.solve()
 

@@ -30,5 +30,5 @@ def import_installed(module: str, package: str):
 def needs(available: bool, what: str):
     """Marker: skip unless ``available``; under .ci/test never skip (the
     test then runs and fails on what is missing)."""
-    return pytest.mark.skipif(not available and not REQUIRED, reason=f"{what} (.ci/install "
-                                                                      f"installs it)")
+    return pytest.mark.skipif(not available and not REQUIRED,
+                              reason=f"{what} (.ci/install installs it)")

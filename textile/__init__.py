@@ -33,6 +33,7 @@ from .rigid_body import RigidBody  # noqa: E402
 from .solver import ConvergenceError, Solver, SolverOptions  # noqa: E402
 
 __all__ = ["BeamElement", "Fibre", "Material", "Model", "Solver", "SolverOptions",
-           "ConvergenceError", "GeometryError", "Output", "RigidBody", "Stage", "save_state", "load_state", "load_fibres", "saved_configuration",
+           "ConvergenceError", "GeometryError", "Output", "RigidBody", "Stage", "save_state",
+           "load_state", "load_fibres", "saved_configuration",
            "StateFileError", "SceneMismatchError", "straight_fibre", "arc_fibre", "PETSc", "_cpp"]
 __version__ = "0.1.0"

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.linalg
-from petsc4py import PETSc
 
 from .model import Model
 from .solver import Solver

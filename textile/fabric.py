@@ -211,9 +211,9 @@ class Fabric:
             return
         q, per_turn = self.element_order, self.elements_per_turn(k)
         if q * per_turn <= 2:
-            raise ValueError(f"Fabric: {name} yarns twisted {yarn.twist:.4g} turns per unit length "
-                             f"get {per_turn:.3g} elements of order {q} per turn: a node interval "
-                             f"turns by pi or more and cannot describe the helix (more "
+            raise ValueError(f"Fabric: {name} yarns twisted {yarn.twist:.4g} turns per unit "
+                             f"length get {per_turn:.3g} elements of order {q} per turn: a node "
+                             f"interval turns by pi or more and cannot describe the helix (more "
                              f"elements_per_crossing)")
         scale = float(interpolated_section_scale(q, 2 * math.pi / per_turn))
         limit = 2 * yarn.radius * (1 - ROUND_OFF)
@@ -233,9 +233,10 @@ class Fabric:
         need = (f"at least {math.pi / phi:.3g} elements per turn" if phi > 0 else
                 "more clearance (its helices touch: no element follows them without overlap)")
         raise ValueError(f"Fabric: {name} yarns twisted {yarn.twist:.4g} turns per unit length "
-                         f"get {per_turn:.3g} elements of order {q} per turn: interpolated between "
-                         f"nodes their section shrinks to {scale:.6f} and fibres come {d:.4g} "
-                         f"apart, less than a diameter {2 * yarn.radius:.4g}; this needs {need}")
+                         f"get {per_turn:.3g} elements of order {q} per turn: interpolated "
+                         f"between nodes their section shrinks to {scale:.6f} and fibres come "
+                         f"{d:.4g} apart, less than a diameter {2 * yarn.radius:.4g}; this "
+                         f"needs {need}")
 
     def fibres(self) -> list[Fibre]:
         """The fibres of the starting state, yarn after yarn (built once)."""

@@ -111,10 +111,12 @@ class Fibre:
                 g1 = sv - np.sum(sv * t, axis=1)[:, None] * t
                 n = np.linalg.norm(g1, axis=1)
                 if np.any(n < 1e-8 * np.linalg.norm(sv, axis=1)):
-                    raise ValueError("section_vectors: a vector is parallel to the fibre's tangent")
+                    raise ValueError("section_vectors: a vector is parallel to the fibre's "
+                                     "tangent")
                 g1 = g1 / n[:, None]
             else:
-                raise ValueError(f"section_vectors must have shape (3,) or {p.shape}, got {sv.shape}")
+                raise ValueError(f"section_vectors must have shape (3,) or {p.shape}, "
+                                 f"got {sv.shape}")
         self.g1 = g1
         self.g2 = np.cross(t, g1)
 

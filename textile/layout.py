@@ -97,8 +97,8 @@ class DofLayout:
         i = self._index[name]
         bs = self.fields[i].bs
         info = self._rank_info
-        base = np.array([info[r][0] + info[r][1][i] - bs * info[r][2][i] for r in range(len(info))],
-                        dtype=np.int64)
+        base = np.array([info[r][0] + info[r][1][i] - bs * info[r][2][i]
+                         for r in range(len(info))], dtype=np.int64)
         blocks = np.asarray(blocks, dtype=np.int64)
         return (base[np.asarray(owners)] + bs * blocks)[:, None] + np.arange(bs)
 
@@ -132,8 +132,8 @@ class DofLayout:
             if len(ghosts):
                 # global block index g owned by rank r sits at
                 # rank_offset[r] + field_offset[r][i] + bs (g - start[r][i])
-                base = np.array([info[r][0] + info[r][1][i] - f.bs * info[r][2][i] for r in owners],
-                                dtype=np.int64)
+                base = np.array([info[r][0] + info[r][1][i] - f.bs * info[r][2][i]
+                                 for r in owners], dtype=np.int64)
                 out.append(((base + f.bs * np.asarray(ghosts))[:, None]
                             + np.arange(f.bs)).ravel())
         return np.concatenate(out).astype(PETSc.IntType)

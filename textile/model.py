@@ -6,7 +6,6 @@ PETSc SNES by summing the effects the scene has.
 """
 from __future__ import annotations
 
-import numbers
 import time
 
 import numpy as np

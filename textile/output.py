@@ -256,7 +256,7 @@ class Output:
                 os.makedirs(sub, exist_ok=True)
             model.comm.barrier()
             out.append((block.name, block.write_vtk(sub, f"{block.name}_{record.step:05d}",
-                                                     record.time)))
+                                                    record.time)))
         return out
 
     def _index_blocks(self, record, fibres_path: str, blocks: list) -> None:
@@ -359,7 +359,8 @@ class Output:
         if self._log:
             self._log.set_meta(warnings=list(self._log.meta.get("warnings", [])) + [message])
 
-    def plot_shape(self, model, filename: str = "shape.png", view: str = "3d", title: str = "") -> str:
+    def plot_shape(self, model, filename: str = "shape.png", view: str = "3d",
+                   title: str = "") -> str:
         """PNG of the current centre lines over the reference ones (rank 0
         writes; every rank must call). Returns the file's path."""
         lines = self.centrelines(model)

@@ -51,7 +51,8 @@ class WeavePattern:
         if isinstance(order, np.ndarray):
             rows = [list(r) for r in order] if order.ndim == 2 else None
             if rows is None:
-                raise ValueError(f"weave pattern must be a 2D matrix, got {order.ndim} dimension(s)")
+                raise ValueError(f"weave pattern must be a 2D matrix, got {order.ndim} "
+                                 f"dimension(s)")
         else:
             try:
                 rows = [list(r) for r in order]

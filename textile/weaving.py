@@ -97,7 +97,8 @@ class Weaving:
         self.clamps, self.pulls = [], []
         for k in range(fabric.num_yarns):
             mine = np.flatnonzero(fabric.fibre_yarn == k)
-            label = f"{fabric.yarn_direction(k)} {k if k < fabric.num_warp else k - fabric.num_warp}"
+            index = k if k < fabric.num_warp else k - fabric.num_warp
+            label = f"{fabric.yarn_direction(k)} {index}"
             clamp = RigidBody(f"{label} clamp", sections=[(int(f), 0) for f in mine])
             clamp.fix("all")
             pull = RigidBody(f"{label} pull", sections=[(int(f), -1) for f in mine])

@@ -329,7 +329,8 @@ class Yarn:
                 or self.count < 1:
             raise ValueError(f"Yarn.count must be a positive integer, got {self.count!r}")
         v = self.radius
-        if isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v) or v <= 0:
+        if (isinstance(v, bool) or not isinstance(v, numbers.Real) or not math.isfinite(v)
+                or v <= 0):
             raise ValueError(f"Yarn.radius must be positive and finite, got {v!r}")
         for name in ("clearance", "twist"):
             v = getattr(self, name)

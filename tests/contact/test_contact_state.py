@@ -59,7 +59,7 @@ def run(comm, path, resume: bool):
 
 
 def compare(continuous, resumed):
-    (qc, cc, sc), (qr, cr, sr) = continuous, resumed
+    (qc, _, sc), (qr, _, sr) = continuous, resumed
     assert np.abs(qc - qr).max() < 1e-10 * L  # the same path, to round-off
     # the same contact history: statistics of the last step
     for key in ("contact_elements", "active_contacts", "slipping_contacts", "contact_zones"):

@@ -52,7 +52,7 @@ def pressed(num_elements, comm=MPI.COMM_SELF):
 @pytest.mark.parametrize("num_elements", [8, 16])
 def test_force_displacement(num_elements):
     I = np.pi * R ** 4 / 4
-    delta, k, reg = DELTA, K, REG
+    k, reg = K, REG
     model, A, B, curve = pressed(num_elements)
     assert len(curve) == 8
     for d, stats in curve:

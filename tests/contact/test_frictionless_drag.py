@@ -13,7 +13,6 @@ tension after 2.5 R, and growing); mesh refinement did not change it.
 import math
 
 import numpy as np
-import pytest
 from mpi4py import MPI
 
 import textile

@@ -90,8 +90,8 @@ def test_fixed_soft_penalty_stops_with_a_message():
     it finished with the rod below the cantilever and A unloaded)."""
     model, A, B, contact = cantilever_and_rod(False, 1e-4, False)
     solver = textile.Solver(model, dict(initial_step=0.2, max_step=0.2, verbose=False))
-    with pytest.raises(textile.ConvergenceError,
-                       match="fibres 0 and 1 have passed through each other.*adapt_penalty is off"):
+    with pytest.raises(textile.ConvergenceError, match="fibres 0 and 1 have passed through "
+                                                       "each other.*adapt_penalty is off"):
         solver.solve()
     # every accepted step has the rod above the cantilever
     assert all(h.effects["crossed_contacts"] == 0 for h in solver.history)

@@ -41,7 +41,8 @@ def test_twisted_pair_one_turn():
     model.add_effect(contact)
     deepest = []
     solver = textile.Solver(model, dict(initial_step=0.02, max_step=0.05, verbose=False),
-                            on_step=lambda s, rec: deepest.append(-contact.elements()["gap"].min()))
+                            on_step=lambda s, rec: deepest.append(
+                                -contact.elements()["gap"].min()))
     solver.solve()
     assert solver.history[-1].load_factor == pytest.approx(1.0)
     target = contact.options.target_penetration * contact.g_r

@@ -14,8 +14,9 @@ from mpi4py import MPI
 DEMOS = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(__file__))), "demos")
 
 CASES = [
-    ("demo_plain_weave.py", ["--fibres", "1", "--spacing", "6"], ["fibres.pvd", "contacts.pvd", "results.json", "sample.png",
-                                 "cut_warp.png", "cut_weft.png", "woven.h5"]),
+    ("demo_plain_weave.py", ["--fibres", "1", "--spacing", "6"],
+     ["fibres.pvd", "contacts.pvd", "results.json", "sample.png", "cut_warp.png", "cut_weft.png",
+      "woven.h5"]),
     ("demo_fibre_rollup.py", ["--elements", "16"], ["fibres.pvd", "results.json", "shape.png"]),
     # fibre slenderness and coarse steps: the straight column past P_cr is
     # seen as unstable and left for the buckled one (issue 22)

@@ -53,7 +53,7 @@ def vtk_can_draw() -> bool:
 
 
 needs_vtk = needs(vtk_can_draw(), "VTK cannot draw here (python3-vtk9 or "
-                 "python3-paraview, and xvfb)")
+                  "python3-paraview, and xvfb)")
 
 
 @needs_vtk

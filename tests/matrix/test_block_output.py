@@ -62,7 +62,7 @@ def test_scene_series_has_fibres_and_matrix(tmp_path, degree):
     steps = {}
     for ds in root.iter("DataSet"):
         steps.setdefault(float(ds.get("timestep")), []).append((ds.get("part"), ds.get("name"),
-                                                                 ds.get("file")))
+                                                                ds.get("file")))
     assert sorted(steps) == [0.5, 1.0]              # two steps, each written
     for t, parts in steps.items():
         assert [(p, n) for p, n, _ in parts] == [("0", "fibres"), ("1", "matrix")], parts

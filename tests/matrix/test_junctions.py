@@ -262,7 +262,8 @@ def mpi_scene(comm):
     P = np.vstack(comm.allgather(junctions.points()))
     F = np.vstack(comm.allgather(junctions.forces()))
     jorder = np.lexsort(np.round(P, 9).T[::-1])
-    return {"junction_X": P[jorder], "junction_forces": F[jorder],"centrelines": np.vstack([model.centreline(f) - f.points for f in fibres]),
+    return {"junction_X": P[jorder], "junction_forces": F[jorder],
+            "centrelines": np.vstack([model.centreline(f) - f.points for f in fibres]),
             "matrix_X": X[order], "matrix_u": u[order],
             "junction_force": junctions.total_force(), "reaction": block.reaction(),
             "stats": junctions.statistics()}

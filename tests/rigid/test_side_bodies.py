@@ -109,7 +109,7 @@ def solve(model):
 def test_rule_of_mixtures(fibre_elements):
     t0 = time.perf_counter()
     model, fibres, block, junction, (left, right) = composite(MPI.COMM_SELF, fibre_elements,
-                                                               "displacement")
+                                                              "displacement")
     solve(model)
     bodies = model.rigid_bodies
     r = bodies.reactions()

@@ -62,7 +62,6 @@ def test_groups_are_reported_per_step(tmp_path):
 def test_failure_names_the_snes_reason():
     """DIVERGED_MAX_IT in words, never a bare number."""
     fib, model = column(8)
-    model_force = textile.Model  # noqa: F841 (keeps the scene explicit)
     solver = textile.Solver(model, dict(initial_step=1.0, max_step=1.0, min_step=0.5,
                                         max_it=1, verbose=False))
     with pytest.raises(textile.ConvergenceError, match="DIVERGED_MAX_IT after 1 Newton"):

@@ -158,8 +158,8 @@ def bad_stages(model, force, pull):
         (dict(name="shape", ramp={force: [1.0, 2.0]}), ValueError, "one per component: 3"),
         (dict(name="text", ramp={force: "up"}), ValueError, "must be finite numbers"),
         (dict(name="release", release=pull), TypeError, "release must be a list of handles"),
-        (dict(name="release item", release=["pull"]), TypeError, "release items must be "
-                                                                "handles"),
+        (dict(name="release item", release=["pull"]), TypeError,
+         "release items must be handles"),
         (dict(name="", ramp={}), ValueError, "name must be a non-empty string"),
         (dict(name="options", effects={contact: dict(mode="weaving", speed=2)}), ValueError,
          r"unknown stage option\(s\) \['speed'\] of FibreContact; allowed: \['fibre_yarn', "

@@ -225,8 +225,9 @@ def test_stiffening_grows_with_spacing(tmp_path_factory):
     66.4) and at 62.6 deg 2.75 widths apart (bound 68.7), each within one of
     the 0.5-1 deg steps near it (tenfold at 65.1 deg 2.75 widths apart).
     Each run goes on past it until a step's contact loop no longer settles
-    within 60 Newton solves (near 63.6 and 66.0 deg: with friction, the crossings' sticking particles are put where
-    the last solve left their points, which moves them again, at a rate
+    within 60 Newton solves (near 63.6 and 66.0 deg: with friction, the
+    crossings' sticking particles are put where the last solve left their
+    points, which moves them again, at a rate
     near 1 there), which ends it as an IncompleteTest with its steps. About
     40 + 60 s on a quiet machine."""
     figures = {}

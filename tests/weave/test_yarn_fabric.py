@@ -314,7 +314,8 @@ def test_interpolated_section_scale_closed_form():
             assert interpolated_section_scale(order, turn) == pytest.approx(sampled, rel=1e-10)
     assert interpolated_section_scale(1, 2 * math.pi / 10) == pytest.approx(0.9511, abs=5e-5)
     # radial neighbours 2 R (1 + c/2) apart stay 2 R apart at that scale for c >= 0.103
-    assert 2 / interpolated_section_scale(1, 2 * math.pi / 10) - 2 == pytest.approx(0.103, abs=5e-4)
+    scale = interpolated_section_scale(1, 2 * math.pi / 10)
+    assert 2 / scale - 2 == pytest.approx(0.103, abs=5e-4)
     assert interpolated_section_scale(2, 2 * math.pi / 10) == pytest.approx(0.9997, abs=5e-5)
 
 

@@ -186,7 +186,6 @@ class RigidBodies(Effect):
     def setup(self, model) -> None:
         mesh, comm = model.mesh, model.comm
         self.model = model
-        n = len(self.bodies)
         held = self._held
         kind = np.array([k for _, _, k, _ in held], dtype=np.int32)
         self._body = np.array([b for b, _, _, _ in held], dtype=np.int32)

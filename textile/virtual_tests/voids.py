@@ -99,8 +99,8 @@ class GapOpening:
                                   & (now["fibre_j"] == p["fibre_j"][k]))
             if not len(same):
                 continue
-            distance = np.abs(now["s_i"][same] - p["s_i"][k]) + np.abs(now["s_j"][same]
-                                                                      - p["s_j"][k])
+            distance = (np.abs(now["s_i"][same] - p["s_i"][k])
+                        + np.abs(now["s_j"][same] - p["s_j"][k]))
             best = int(np.argmin(distance))
             if distance[best] <= 1.0:
                 opening[k] = now["gap"][same[best]] - p["gap"][k]
