@@ -7,8 +7,10 @@ term is a new file here implementing :class:`~textile.effects.base.Effect`.
 from .base import Effect, State
 from .beam_elasticity import BeamElasticity
 from .nodal_loads import EndMoments, NodalForces
+from .viscous_drag import ViscousDrag
 
-__all__ = ["Effect", "State", "BeamElasticity", "NodalForces", "EndMoments", "ElasticBlock",
+__all__ = ["Effect", "State", "BeamElasticity", "NodalForces", "EndMoments", "ViscousDrag",
+           "ElasticBlock",
            "FibreMatrixTie", "FibreMatrixJunctions"]
 
 # Effects that need dolfinx's form machinery (UFL, JIT) are imported on

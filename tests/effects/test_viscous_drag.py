@@ -1,0 +1,110 @@
+"""ViscousDrag: exact tangent, nothing computed when off, the structure's
+own equilibrium once it is off, and a path through a bundle's weaving."""
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+import textile
+from textile import _cpp
+from textile.effects import ViscousDrag, viscous_drag
+from tests.finite_differences import assembled_tangent_and_differences
+
+E, NU, R, L = 1.0e9, 0.3, 1e-3, 0.1
+EI = E * np.pi * R ** 4 / 4
+F = 0.5 * EI / L ** 2
+QUIET = dict(verbose=False)
+
+
+def cantilever(drag=None):
+    fib = textile.straight_fibre([0, 0, 0], [L, 0, 0], R, textile.Material(E, NU),
+                                 num_elements=8, section_vector=[0, 1, 0])
+    model = textile.Model(fib, comm=MPI.COMM_SELF)
+    model.clamp(fib, 0)
+    force = model.add_force(fib, -1, [0, 0, F])
+    if drag is not None:
+        model.add_effect(drag)
+    return fib, model, force
+
+
+def test_tangent_matches_finite_differences():
+    """The drag's residual eta (x - x_n) and its diagonal tangent, with the
+    beam's, against central differences at a deformed state away from the
+    reference."""
+    drag = ViscousDrag(2.0)
+    _, model, _ = cantilever(drag)
+    model.setup()
+    drag.prepare(model)                      # the reference: the undeformed state
+    x = model.x
+    x.setArray(np.random.default_rng(5).normal(scale=1e-3 * R, size=x.getLocalSize()))
+    model.apply_constraints(x)
+    J, Jfd, free = assembled_tangent_and_differences(model, x, h=1e-9)
+    err = np.linalg.norm(J[:, free] - Jfd) / np.linalg.norm(Jfd)
+    assert err < 1e-6  # central differences: truncation ~1e-10 relative
+    # the drag is there: the tangent differs from the beam's alone by eta on
+    # the centre-line diagonal (12 E I / L_e^3 times 2)
+    _, bare, _ = cantilever()
+    bare.setup()
+    y = bare.x
+    y.setArray(x.getArray())
+    Jb, _, _ = assembled_tangent_and_differences(bare, y, h=1e-9)
+    eta = 2.0 * 12 * EI / (L / 8) ** 3
+    diagonal = np.diag(J - Jb)[free]
+    assert np.isclose(diagonal.max(), eta, rtol=1e-12)
+    assert np.count_nonzero(np.abs(diagonal) > 1e-9 * eta) == 3 * 16   # 16 free nodes, x y z
+
+
+def test_off_computes_nothing(monkeypatch):
+    """Coefficient 0 (the stage option that switches it off): no diagonal
+    inserted, the same Newton iterations and state as without the effect."""
+    calls = []
+
+    class Counting:   # the drag module's view of the C++ module
+        def add_diagonal(self, *args):
+            calls.append(1)
+            _cpp.add_diagonal(*args)
+
+    monkeypatch.setattr(viscous_drag, "_cpp", Counting())
+    drag = ViscousDrag(0.0)
+    _, with_drag, _ = cantilever(drag)
+    s1 = textile.Solver(with_drag, QUIET)
+    s1.solve()
+    _, without, _ = cantilever()
+    s2 = textile.Solver(without, QUIET)
+    s2.solve()
+    assert calls == []
+    assert [h.newton_iterations for h in s1.history] == \
+        [h.newton_iterations for h in s2.history]
+    assert np.array_equal(with_drag.nodal_unknowns(), without.nodal_unknowns())
+    # control: the counter sees the drag when it is on
+    _, on, _ = cantilever(ViscousDrag(1.0))
+    textile.Solver(on, QUIET).solve()
+    assert len(calls) > 0
+
+
+def test_a_stage_without_it_ends_at_the_structures_equilibrium():
+    """Loaded with the drag, then a stage with coefficient 0: the tip where
+    the drag-free run puts it (to the Newton tolerance), while the state at
+    the end of the dragged stage lags behind it."""
+    drag = ViscousDrag(5.0)
+    fib, model, force = cantilever(drag)
+    solver = textile.Solver(model, dict(initial_step=0.5, max_step=0.5, verbose=False))
+    solver.run_stage(textile.Stage("dragged"))
+    lagging = model.nodal_unknowns()[-1, 2]
+    assert solver.history[-1].effects["drag_force"] > 0
+    solver.run_stage(textile.Stage("settle", effects={drag: dict(coefficient=0.0)}))
+    assert solver.history[-1].effects["drag_force"] == 0.0
+    _, free, _ = cantilever()
+    textile.Solver(free, dict(initial_step=0.5, max_step=0.5, verbose=False)).solve()
+    tip = free.nodal_unknowns()[-1, 2]
+    assert model.nodal_unknowns()[-1, 2] == pytest.approx(tip, rel=1e-9)
+    assert lagging < 0.9 * tip   # the drag held it back (5 bending stiffnesses)
+
+
+@pytest.mark.parametrize("value", [-1.0, float("nan"), "1", True])
+def test_bad_coefficients_are_named_errors(value):
+    with pytest.raises(ValueError, match="ViscousDrag: coefficient must be a finite number"):
+        ViscousDrag(value)
+    with pytest.raises(ValueError, match="ViscousDrag: coefficient must be a finite number"):
+        ViscousDrag().configure(coefficient=value)
+    with pytest.raises(ValueError, match=r"unknown option\(s\) \['speed'\]"):
+        ViscousDrag().configure(speed=1)
