@@ -6,21 +6,16 @@ from mpi4py import MPI
 import textile
 import textile.effects.fibre_contact as fibre_contact
 from textile.effects.fibre_contact import FibreContact
+from tests.effects.test_pays_only_for_its_effects import crossed_model as crossed_scene
 
 MAT = textile.Material(1.0e9, 0.3)
 R = 1e-3
 
 
 def crossed_model(contact=None):
-    A = textile.straight_fibre([0, -0.05, 0], [0, 0.05, 0], R, MAT, num_elements=8)
-    B = textile.straight_fibre([-0.05, 0, 2 * R], [0.05, 0, 2 * R], R, MAT, num_elements=8)
-    model = textile.Model([A, B], comm=MPI.COMM_SELF)
-    for n in range(A.num_nodes):
-        model.fix(A, n, "all")
-    model.fix(B, 0, ["position", "g1x"], [0, 0, -1e-4, 0])
-    model.fix(B, -1, ["y", "z"], [0, -1e-4])
-    if contact is not None:
-        model.add_effect(contact)
+    """Fibre B pressed on fibre A, crossing it (the scene of
+    tests/effects/test_pays_only_for_its_effects.py)."""
+    model, _ = crossed_scene(*([] if contact is None else [contact]))
     return model
 
 
