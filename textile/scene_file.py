@@ -432,8 +432,8 @@ def parse(data: dict, reader: _Reader) -> dict:
 
 def _material(reader, materials, name, path):
     if name not in materials:
-        reader.fail(path, f"unknown material {_show(name)}; known: "
-                          f"{', '.join(sorted(materials)) or 'none ([materials.<name>] tables)'}")
+        known = ", ".join(map(_show, sorted(materials))) or "none ([materials.<name>] tables)"
+        reader.fail(path, f"unknown material {_show(name)}; known: {known}")
 
 
 def _one_of(reader, d, path, keys, required=True):
@@ -507,8 +507,9 @@ def _check_test(reader, scene, materials):
     for key, value in base.items():
         if value is not None and key not in TEST_COMMON and not any(
                 key in TEST_ARGUMENTS[case["type"]] for case, _ in test["runs"]):
+            types = sorted({c["type"] for c, _ in test["runs"]})
             reader.fail(_key("test", key), f"not an argument of any of the tests (their "
-                                           f"types: {', '.join(sorted({c['type'] for c, _ in test['runs']}))})")
+                                           f"types: {', '.join(types)})")
 
 
 def _check_fibres(reader, scene, materials):
@@ -842,7 +843,7 @@ class Scene:
         summary = weaving.summary()
         woven = os.path.join(directory, "woven.h5")
         save_state(weaving.model, woven, fibre_data={"yarn": fabric.fibre_yarn})
-        return dict(steps=len(solver.history), figures=summary, woven=woven)
+        return dict(steps=solver.position()["steps"], figures=summary, woven=woven)
 
     def _run_test(self, directory, resume, comm):
         from . import virtual_tests
@@ -1009,7 +1010,7 @@ class Scene:
         if comm.rank == 0:
             for name, value in figures.items():
                 print(f"  {name}: {value:.10g}", flush=True)
-        return dict(steps=len(solver.history), load_factor=model.load_factor,
+        return dict(steps=solver.position()["steps"], load_factor=model.load_factor,
                     time=solver.history[-1].time if solver.history else None,
                     energy=solver.history[-1].energy if solver.history else None,
                     figures=figures)
