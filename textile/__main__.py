@@ -56,6 +56,7 @@ def main(argv=None, comm=None) -> int:
     # and usage errors need neither
     from mpi4py import MPI
 
+    from .io.state_file import SceneMismatchError, StateFileError
     from .scene_file import SceneError, read_scene
     from .solver import ConvergenceError
     comm = MPI.COMM_WORLD if comm is None else comm
@@ -78,7 +79,8 @@ def main(argv=None, comm=None) -> int:
         + f"; output in {scene.output_directory(args.output)}")
     try:
         scene.run(output=args.output, resume=args.resume, comm=comm)
-    except SceneError as error:
+    except (SceneError, SceneMismatchError, StateFileError) as error:
+        # a state file of another scene, or unreadable (--resume, test.woven)
         say(f"error: {error}", sys.stderr)
         return 2
     except ConvergenceError as error:
