@@ -35,13 +35,16 @@ R = 0.1e-3
 MAT = textile.Material(5.0e9, 0.35)
 
 
-def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm) -> dict:
+def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm,
+          relaxation_steps: int = 1, make_up: bool = False) -> dict:
     yarn = Yarn(fibres, R, MAT, packing="hexagonal")
     fabric = Fabric(yarn, num_warp=2, num_weft=2, spacing=spacing * yarn.width,
                     pattern="plain", elements_per_crossing=4)
-    weaving = Weaving(fabric, comm=comm)
+    weaving = Weaving(fabric, comm=comm, relaxation_steps=relaxation_steps)
     stages = weaving.stages()
     stages[0].solver.update(easy_iterations=easy)
+    if make_up:
+        stages[1].effects[weaving.contact]["make_up_penetrations"] = True
     if drag > 0:
         effect = ViscousDrag(drag)
         weaving.model.add_effect(effect)
@@ -58,7 +61,8 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
     summary = weaving.summary()
     counters = solver.counters
     return dict(fibres=fibres, spacing=spacing, easy_iterations=easy, drag=drag,
-                relaxation=relax, stage=solver.history[-1].stage if solver.history else "",
+                relaxation=relax, relaxation_steps=relaxation_steps, make_up=make_up,
+                stage=solver.history[-1].stage if solver.history else "",
                 load_factor=float(weaving.model.load_factor), error=error[:300],
                 wall_seconds=wall,
                 newton_per_step=[h.newton_iterations for h in solver.history],
@@ -76,10 +80,14 @@ def main():
     p.add_argument("--easy", type=int, nargs="+", default=[4, 12])
     p.add_argument("--drag", type=float, nargs="+", default=[0.0, 1.0])
     p.add_argument("--relax", action="store_true", help="run the relaxation stage too")
+    p.add_argument("--relaxation-steps", type=int, default=1)
+    p.add_argument("--make-up", action="store_true",
+                   help="the relaxation makes up the penetrations it starts with")
     args = p.parse_args()
     rows = []
     for fibres, easy, drag in itertools.product(args.fibres, args.easy, args.drag):
-        row = weave(fibres, args.spacing, easy, drag, args.relax, MPI.COMM_SELF)
+        row = weave(fibres, args.spacing, easy, drag, args.relax, MPI.COMM_SELF,
+                    args.relaxation_steps, args.make_up)
         rows.append(row)
         print(f"{fibres} fibres, easy_iterations {easy}, drag {drag:g}: "
               f"{row['stage']} s={row['load_factor']:.3f}, "
