@@ -484,7 +484,7 @@ class FibreContact(Effect):
         if not self._matrix_has_contact or not self.coverage.covers(new, self.pattern_margin):
             self.coverage.add(new, self.pattern_margin)
             self._matrix_has_contact = True
-            self.model.matrix_stale = True
+            self.model.request_matrix_rebuild()
         # what matters is what the elements do to the fibres at this state
         after = new.nodal_forces(q)
         diff = comm.allreduce(float(np.sum((after - before) ** 2)))
@@ -826,3 +826,7 @@ class FibreContact(Effect):
         gaps, normal and tangential forces, slip flags, penalty per unit
         length and the contact length each element stands for."""
         return self.set.data()
+
+    def contact_elements(self) -> dict:
+        """The output's contact elements (Effect.contact_elements): :meth:`elements`."""
+        return self.elements()
