@@ -61,6 +61,9 @@ class Model:
         self.newton = "standard"
         self._linearization_point: PETSc.Vec | None = None
         self.last_tangent_update = 0.0
+        #: tangents assembled since the solver last ran the effects'
+        #: prepare or update (State.tangent_index; see start_newton)
+        self._tangents_since_update = 0
         self._constraint_cache: tuple | None = None
         self._beam_global_dofs = None
         self._floor_tangent = None
@@ -205,6 +208,11 @@ class Model:
         a new matrix before the next Newton solve (rebuild_matrix, which
         asks every such effect's add_dynamic_pattern)."""
         self.matrix_stale = True
+
+    def start_newton(self) -> None:
+        """The solver ran the effects' prepare or update: a Newton solve
+        follows, whose tangents count from 0 (State.tangent_index)."""
+        self._tangents_since_update = 0
 
     def _rebuild_pattern(self) -> None:
         """A new system matrix from the effects' sparsity (a released
@@ -573,6 +581,8 @@ class Model:
     def jacobian(self, snes, x: PETSc.Vec, J: PETSc.Mat, P: PETSc.Mat) -> None:
         """SNES Jacobian: sum of the effects' tangents, identity on constrained rows."""
         st = self.state(x)
+        st.tangent_index = self._tangents_since_update
+        self._tangents_since_update += 1
         if self.newton == "mip":
             if self._linearization_point is None:
                 self.set_linearization_point(x)

@@ -468,6 +468,7 @@ class Solver:
             changed = any(bool(r) for r in results)
         except _cpp.GeometryError as exc:
             error = str(exc)
+        m.start_newton()  # the tangents of the Newton solve that follows count from 0
         errors = [e for e in self.comm.allgather(error) if e]
         return self.comm.allreduce(changed), (errors[0] if errors else "")
 

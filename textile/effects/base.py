@@ -40,12 +40,20 @@ class State:
         that SNES asks for; empty otherwise. Effects may use it for a
         mixed-integration-point (MIP) tangent; with du empty (or zero) the
         tangent must be the exact derivative of the residual.
+    tangent_index:
+        For a tangent (Effect.jacobian): how many tangents the model has
+        assembled since the solver last ran the effects' ``prepare`` or
+        ``update`` (0: the first tangent of the Newton solve that follows;
+        1, 2, ...: the next iterations, counted on across the linear
+        solver's retries of that solve). Effects read the Newton iteration
+        from it instead of counting their own calls. 0 otherwise.
     """
 
     load_factor: float
     u: dict[str, np.ndarray] = field(default_factory=dict)
     dofs: dict[str, np.ndarray] = field(default_factory=dict)
     du: dict[str, np.ndarray] = field(default_factory=dict)
+    tangent_index: int = 0
 
 
 class Effect:

@@ -411,7 +411,6 @@ class FibreContact(Effect):
         self.penalty_conversions = 0
         self.held_contacts = 0
         self._newton_pending = False  # a Newton solve follows (prepare, or update True)
-        self._tangents = 0            # tangents assembled in that solve so far
         self._check_order()
 
     # -- detection and history -----------------------------------------------
@@ -572,7 +571,7 @@ class FibreContact(Effect):
         self.held_contacts = 0
         # after a mode change, every attempt's first pass sets normals anew
         self._rebuild(model.beam_positions(model.state()), reset_normals=self._reset_normals)
-        self._newton_pending, self._tangents = True, 0
+        self._newton_pending = True
 
     def _check_crossed(self) -> None:
         """After a converged Newton solve, at the set's evaluation: fibres
@@ -617,7 +616,7 @@ class FibreContact(Effect):
         changed = self._rebuild(q, persist=True) or emergency > 0
         # another Newton solve follows only if something changed (not, e.g.,
         # the stability check's factorization at the converged state)
-        self._newton_pending, self._tangents = changed, 0
+        self._newton_pending = changed
         return changed
 
     def commit(self, model) -> None:
@@ -644,14 +643,13 @@ class FibreContact(Effect):
         self.set.set_depth_scale(self._depth_scale())
         # the first tangents of a Newton solve keep a floor that decays by
         # FLOOR_DECAY an iteration (first contact at zero gap, see
-        # ContactOptions.tangent_floor)
-        floor = self.options.tangent_floor * FLOOR_DECAY ** self._tangents \
+        # ContactOptions.tangent_floor); the model counts the iterations
+        floor = self.options.tangent_floor * FLOOR_DECAY ** state.tangent_index \
             if self._newton_pending else 0.0
         self.set.set_tangent_floor(floor)
         # penetrations beyond the adaptation band: the tangent of held
         # points (ContactSet.set_motion_depth)
         self.set.set_motion_depth(self.options.penalty_band[1] * self.adaptation.target)
-        self._tangents += 1
         self.set.assemble_matrix(q, self.model.beam_global_dofs(state), A)
 
     # -- saved states (textile.io.state_file) ----------------------------------------
