@@ -122,6 +122,10 @@ class Schedule:
             out[pos] = True
         return out
 
+    def has_callables(self) -> bool:
+        """True if some components are given by a callable of s in this stage."""
+        return bool(self._callables)
+
     def snapshot(self) -> tuple:
         """Everything a stage may change, for :meth:`restore`."""
         return self.start.copy(), self.target.copy(), self.active.copy(), list(self._callables)

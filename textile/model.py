@@ -61,6 +61,14 @@ class Model:
         self.newton = "standard"
         self._linearization_point: PETSc.Vec | None = None
         self.last_tangent_update = 0.0
+        #: tangents assembled since the solver last ran the effects'
+        #: prepare or update (State.tangent_index; see start_newton)
+        self._tangents_since_update = 0
+        self._constraint_cache: tuple | None = None
+        self._beam_global_dofs = None
+        self._floor_tangent = None
+        #: counts the changes of the constrained set (_setup_constraints)
+        self.constraint_version = 0
 
     # -- scene definition ------------------------------------------------
     def _check_open(self):
@@ -141,7 +149,7 @@ class Model:
     @property
     def saddle_point_rows(self) -> int:
         """Negative eigenvalues the scene's multipliers add to the tangent."""
-        return sum(e.saddle_point_rows() for e in self.effects if hasattr(e, "saddle_point_rows"))
+        return sum(e.saddle_point_rows() for e in self.effects)
 
     # -- stages ------------------------------------------------------------
     def schedules(self) -> list[Schedule]:
@@ -149,8 +157,7 @@ class Model:
         forces, end moments and the effects' own (rigid bodies, ...)."""
         out = [self._prescribed]
         for e in self.effects:
-            if hasattr(e, "schedules"):
-                out += e.schedules()
+            out += e.schedules()
         return out
 
     def begin_stage(self, stage) -> bool:
@@ -167,7 +174,7 @@ class Model:
         set the constrained set up again at the current load factor.
         Returns True when it changed (the system matrix is then new)."""
         before = {k: v.copy() for k, v in self._constrained_dofs.items()}
-        self._constraint_cache = None
+        self.invalidate_constraints()
         self._setup_constraints()
         changed = before.keys() != self._constrained_dofs.keys() or any(
             len(before[k]) != len(v) or np.any(before[k] != v)
@@ -185,8 +192,27 @@ class Model:
         start of the next stage (held unless that stage says otherwise)."""
         for s in self.schedules():
             s.finish_stage()
-        self._constraint_cache = None
+        self.invalidate_constraints()
         self.load_factor = 0.0
+
+    def invalidate_constraints(self) -> None:
+        """Forget the prescribed values computed for the current load factor
+        (they are recomputed at the next use): call it after changing what
+        a schedule gives at the same load factor (e.g. a load factor set and
+        set back, Solver's load pattern)."""
+        self._constraint_cache = None
+
+    def request_matrix_rebuild(self) -> None:
+        """An effect with dynamic_sparsity has couplings the system matrix
+        has no room for (called in its prepare or update): the solver builds
+        a new matrix before the next Newton solve (rebuild_matrix, which
+        asks every such effect's add_dynamic_pattern)."""
+        self.matrix_stale = True
+
+    def start_newton(self) -> None:
+        """The solver ran the effects' prepare or update: a Newton solve
+        follows, whose tangents count from 0 (State.tangent_index)."""
+        self._tangents_since_update = 0
 
     def _rebuild_pattern(self) -> None:
         """A new system matrix from the effects' sparsity (a released
@@ -219,9 +245,9 @@ class Model:
     def effects(self) -> list[Effect]:
         """Effects assembled in this scene (loads only when present)."""
         out: list[Effect] = [self.beam]
-        if self._forces._items:
+        if len(self._forces.schedule):
             out.append(self._forces)
-        if self._moments._nodes:
+        if len(self._moments.schedule):
             out.append(self._moments)
         return out + self._effects
 
@@ -284,7 +310,7 @@ class Model:
                                           dtype=np.int64)
         self._beam_fixed_components = np.array([k for (k, _), h in zip(keys, have) if h],
                                                dtype=np.int64)
-        self._constraint_cache: tuple | None = None
+        self.invalidate_constraints()
         self._beam_global_dofs = None
         # the set of constrained dofs is fixed within a stage (values change
         # with s): every effect sees the same mask
@@ -293,7 +319,7 @@ class Model:
         #: counts the changes of the constrained set, the same on every rank
         #: (a rank-local key, such as an array's id, may repeat on one rank
         #: only and split a collective check)
-        self.constraint_version = getattr(self, "constraint_version", 0) + 1
+        self.constraint_version += 1
         self._masked_dofs = {}
         for f in self.layout.fields:
             d = self.layout.local_dofs(f.name).copy()
@@ -321,7 +347,7 @@ class Model:
         """Rows of the owned global vector by group (see textile.convergence):
         the free rows of each group, and which reactions (constrained rows,
         in the order of ``_owned_constrained``) belong to it."""
-        constrained = self._owned_position(self._owned_constrained(0.0)[0])
+        constrained = self.owned_positions(self._owned_constrained(0.0)[0])
         owned_constrained = np.unique(constrained)
         rows, scale, reactions, start = {}, {}, {}, 0
         rmax = max(f.radius for f in self.mesh.fibres)
@@ -356,6 +382,25 @@ class Model:
         centres (see Effect.reference_values)."""
         arrays = self.layout.get_local(self._X_q)
         return {f.name: a.copy() for f, a in zip(self.layout.fields, arrays)}
+
+    def reference_norm(self) -> float:
+        """Norm of the reference values of every field (reference_values):
+        with the unknowns' norm, the size of the unknowns as the kernels
+        see them (the scale of a negligible Newton update). Collective."""
+        return self._X_q.norm()
+
+    def set_field_values(self, field: str, change) -> None:
+        """Change the unknowns of ``field`` in the solution: ``change`` gets
+        this rank's local array of the field (owned then ghost, unrolled, a
+        copy) and edits it in place; the vector is then set from every
+        field's local array, and the ghosts from their owners. Collective.
+        The way an effect changes its own field's unknowns (e.g. rigid
+        bodies folding the rotation increment into their rotation at
+        commit): the same change on every rank."""
+        arrays = [a.copy() for a in self.layout.get_local(self.x)]
+        change(arrays[self.layout.index(field)])
+        self.layout.scatter(self.x, arrays)
+        self.x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
 
     def block_keys(self, field: str) -> np.ndarray:
         """(local blocks, k) int64 partition-independent names of the
@@ -428,7 +473,7 @@ class Model:
         """Positions, in this rank's owned part of the global vector, of the
         unknowns constrained at the current load factor."""
         idx, _ = self._owned_constrained(self.load_factor)
-        return self._owned_position(idx)
+        return self.owned_positions(idx)
 
     def residual(self, snes, x: PETSc.Vec, b: PETSc.Vec) -> None:
         """SNES function: r(u) with constrained rows replaced by u - u_prescribed.
@@ -468,7 +513,7 @@ class Model:
         barr = b.getArray()
         xarr = x.getArray(readonly=True)
         # owned part of the stacked local numbering -> position in the owned array
-        pos = self._owned_position(idx)
+        pos = self.owned_positions(idx)
         self._reaction_values = barr[pos].copy()   # internal - external force at supports
         barr[pos] = xarr[pos] - vals
         if not np.all(np.isfinite(barr)):
@@ -512,7 +557,7 @@ class Model:
         v.destroy()
         return out
 
-    def _owned_position(self, stacked_local: np.ndarray) -> np.ndarray:
+    def owned_positions(self, stacked_local: np.ndarray) -> np.ndarray:
         """Map stacked local indices of owned dofs to positions in the owned
         part of the global vector (fields' owned blocks are contiguous)."""
         pos = np.empty_like(stacked_local)
@@ -536,6 +581,8 @@ class Model:
     def jacobian(self, snes, x: PETSc.Vec, J: PETSc.Mat, P: PETSc.Mat) -> None:
         """SNES Jacobian: sum of the effects' tangents, identity on constrained rows."""
         st = self.state(x)
+        st.tangent_index = self._tangents_since_update
+        self._tangents_since_update += 1
         if self.newton == "mip":
             if self._linearization_point is None:
                 self.set_linearization_point(x)
@@ -580,7 +627,7 @@ class Model:
         the last assembled tangent, q the unknowns as the kernels see them
         (textile.convergence); None before any tangent. Collective; computed
         only when the convergence test needs it (a pass over the matrix)."""
-        K = getattr(self, "_floor_tangent", None)
+        K = self._floor_tangent
         if K is None:
             return None
         q = x.copy()
@@ -617,7 +664,7 @@ class Model:
         keep their index too: a residual may write their rows, which
         :meth:`residual` records as support reactions and then replaces
         (a tangent must not: its constrained rows are the identity)."""
-        if getattr(self, "_beam_global_dofs", None) is None:
+        if self._beam_global_dofs is None:
             self._beam_global_dofs = self._compute_beam_global_dofs()
         return self._beam_global_dofs[1 if constrained else 0]
 

@@ -37,6 +37,7 @@ import warnings
 from collections.abc import Mapping
 
 import numpy as np
+from mpi4py import MPI
 
 from .fibre_loads import FIGURES, element_loads, fibre_maxima, gathered_element_fields, top_fibres
 from .io import PVDSeries, ResultsLog, write_fibres_vtu
@@ -242,21 +243,20 @@ class Output:
 
     @staticmethod
     def _blocks(model) -> list:
-        """The scene's matrix blocks (effects that write themselves with
-        dolfinx; found by their write_vtk method, so that a scene without a
-        matrix imports nothing of the matrix side)."""
-        return [e for e in model.effects if hasattr(e, "write_vtk")]
+        """The effects with a ParaView part of their own (Effect.vtk_name:
+        the matrix blocks, written by dolfinx)."""
+        return [e for e in model.effects if e.vtk_name is not None]
 
     def _write_blocks(self, model, record) -> list[tuple[str, str]]:
         """Write every block of the step (collective); [(name, .pvtu path)]."""
         out = []
         for block in self._blocks(model):
-            sub = os.path.join(self.directory, block.name)
+            name = block.vtk_name
+            sub = os.path.join(self.directory, name)
             if model.comm.rank == 0:
                 os.makedirs(sub, exist_ok=True)
             model.comm.barrier()
-            out.append((block.name, block.write_vtk(sub, f"{block.name}_{record.step:05d}",
-                                                    record.time)))
+            out.append((name, block.write_vtk(sub, f"{name}_{record.step:05d}", record.time)))
         return out
 
     def _index_blocks(self, record, fibres_path: str, blocks: list) -> None:
@@ -272,12 +272,13 @@ class Output:
         self._scene_pvd.add(record.time, [("fibres", fibres_path)] + blocks)
 
     def _contact_elements(self, model) -> dict | None:
-        """All ranks' contact elements gathered on rank 0 (None without contact)."""
-        from .effects.fibre_contact import FibreContact
-        effects = [e for e in model.effects if isinstance(e, FibreContact)]
-        if not effects:
+        """All ranks' contact elements (Effect.contact_elements) gathered on
+        rank 0 (None without contact)."""
+        mine = [e.contact_elements() for e in model.effects]
+        mine = [d for d in mine if d is not None]
+        if not model.comm.allreduce(bool(mine), op=MPI.LOR):
             return None
-        parts = model.comm.gather([e.elements() for e in effects], root=0)
+        parts = model.comm.gather(mine, root=0)
         if model.comm.rank != 0:
             return None
         flat = [d for rank in parts for d in rank]

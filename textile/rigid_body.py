@@ -243,12 +243,13 @@ class RigidBody:
     @property
     def has_load(self) -> bool:
         """True if a force or moment is (or will be) applied to the body."""
-        return bool(np.any(self.loads.start) or np.any(self.loads.target) or self.loads._callables)
+        return bool(np.any(self.loads.start) or np.any(self.loads.target)
+                    or self.loads.has_callables())
 
     @property
     def has_moment(self) -> bool:
         return bool(np.any(self.loads.start[3:6]) or np.any(self.loads.target[3:6])
-                    or self.loads._callables)
+                    or self.loads.has_callables())
 
     def _vector(self, v, label) -> np.ndarray:
         a = np.asarray(v, dtype=float)

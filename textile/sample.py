@@ -278,7 +278,7 @@ class Sample:
         mine = np.flatnonzero((local >= 0) & (local < mesh.num_owned))
         if len(mine):
             rows = model.layout.offset("beam") + 9 * local[mine][:, None] + np.arange(9)
-            imbalance[mine] = r[model._owned_position(rows.ravel())].reshape(-1, 9)
+            imbalance[mine] = r[model.owned_positions(rows.ravel())].reshape(-1, 9)
         imbalance = model.comm.allreduce(imbalance)
         b.destroy()
         if not self.end_bodies:

@@ -361,7 +361,7 @@ class Solver:
         snes.setOptionsPrefix(self.prefix)
         snes.setType("newtonls")
         snes.setFunction(self._residual, m.b)
-        symmetric = all(getattr(e, "symmetric_tangent", False) for e in m.effects)
+        symmetric = all(e.symmetric_tangent for e in m.effects)
         self.linear = LinearSolver(snes, o, self.prefix, symmetric, self.comm)
         snes.setJacobian(self._jacobian, *self.linear.operators(m.A))
         snes.setTolerances(max_it=o.max_it)
@@ -405,7 +405,7 @@ class Solver:
         if it == 0:
             # the size of the unknowns as the kernels see them (positions):
             # the scale of a negligible Newton update and of the constraint rows
-            self._q_norm = m.x.norm() + m._X_q.norm()
+            self._q_norm = m.x.norm() + m.reference_norm()
         settled = it > 0 and ynorm <= self.tolerances.floor_update * self._q_norm
         # was the last factorization the exact tangent of a state close to
         # this one? (the inertia of the stability check is read from it; a
@@ -468,6 +468,7 @@ class Solver:
             changed = any(bool(r) for r in results)
         except _cpp.GeometryError as exc:
             error = str(exc)
+        m.start_newton()  # the tangents of the Newton solve that follows count from 0
         errors = [e for e in self.comm.allgather(error) if e]
         return self.comm.allreduce(changed), (errors[0] if errors else "")
 
@@ -646,10 +647,10 @@ class Solver:
         r0, r1 = m.b.duplicate(), m.b.duplicate()
         m.residual(None, m.x, r0)
         m.load_factor = t + h
-        m._constraint_cache = None
+        m.invalidate_constraints()
         m.residual(None, m.x, r1)
         m.load_factor = t
-        m._constraint_cache = None
+        m.invalidate_constraints()
         m.residual(None, m.x, m.b)  # leave the model's residual at t
         f = r0
         f.axpy(-1.0, r1)

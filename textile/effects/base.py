@@ -40,12 +40,20 @@ class State:
         that SNES asks for; empty otherwise. Effects may use it for a
         mixed-integration-point (MIP) tangent; with du empty (or zero) the
         tangent must be the exact derivative of the residual.
+    tangent_index:
+        For a tangent (Effect.jacobian): how many tangents the model has
+        assembled since the solver last ran the effects' ``prepare`` or
+        ``update`` (0: the first tangent of the Newton solve that follows;
+        1, 2, ...: the next iterations, counted on across the linear
+        solver's retries of that solve). Effects read the Newton iteration
+        from it instead of counting their own calls. 0 otherwise.
     """
 
     load_factor: float
     u: dict[str, np.ndarray] = field(default_factory=dict)
     dofs: dict[str, np.ndarray] = field(default_factory=dict)
     du: dict[str, np.ndarray] = field(default_factory=dict)
+    tangent_index: int = 0
 
 
 class Effect:
@@ -53,6 +61,14 @@ class Effect:
 
     Subclasses override what they need. ``fields`` names the fields whose
     blocks the effect writes into.
+
+    Every hook the model, the solver, saved states and the output call is
+    declared here with its contract and a neutral default (they call it on
+    every effect, never asking whether an effect has it): an effect that
+    overrides nothing adds nothing to the system, has no schedules, no
+    multipliers, no saved state and no output of its own. An effect changes
+    the model only through the model's public methods (e.g.
+    ``Model.request_matrix_rebuild``, ``Model.set_field_values``).
     """
 
     #: Field names the effect couples (rows and columns).
@@ -101,7 +117,8 @@ class Effect:
     def add_dynamic_pattern(self, model, preallocator) -> None:
         """For effects with dynamic_sparsity: declare, by global index, the
         matrix entries the effect can fill now (called when the model
-        rebuilds its matrix after the effect set ``model.matrix_stale``)."""
+        rebuilds its matrix, after an effect asked for it with
+        ``model.request_matrix_rebuild()`` in its prepare or update)."""
 
     def constraints(self, load_factor: float) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """Field name -> (local unrolled dofs, prescribed values) the effect
@@ -152,6 +169,22 @@ class Effect:
         """Scalars worth logging per step (merged into results.json)."""
         return {}
 
+    # -- loading and stability ---------------------------------------------
+    def schedules(self) -> list:
+        """The effect's loading schedules (:class:`textile.loading.Schedule`:
+        its prescriptions and loads), which stages ramp, hold and release
+        and saved states write. The model lists them after its own
+        prescribed displacements (Model.schedules), whenever it needs them:
+        the same schedules, in the same order, at every call."""
+        return []
+
+    def saddle_point_rows(self) -> int:
+        """Negative eigenvalues the effect's Lagrange multiplier rows add to
+        the tangent (one per constraint row, by Sylvester's law), the same
+        on every rank: the stability check discounts them. Called after
+        setup."""
+        return 0
+
     # -- saved states (textile.io.state_file) ------------------------------
     #: Name of the effect's group in a state file, None if it saves nothing
     #: beyond its fields' unknowns (which the state file writes by block key).
@@ -173,3 +206,32 @@ class Effect:
     def load_state(self, model, data: dict) -> None:
         """Restore the history saved by save_state (after check_state, with
         the unknowns already loaded)."""
+
+    def load_fibres(self, model, data: dict) -> None:
+        """A new scene starts from the fibres of a saved state
+        (:func:`textile.load_fibres`): the fibre unknowns are already set;
+        ``data`` is the file's group of this effect's ``state_name`` (empty
+        when the file has none, or state_name is None). Collective. Default:
+        nothing, the effect starts afresh."""
+
+    # -- output (textile.output.Output) ------------------------------------
+    #: Name of the effect's own ParaView part (``<vtk_name>/`` and
+    #: ``<vtk_name>.pvd`` next to the fibres, a part of ``scene.pvd``),
+    #: None if it writes none; then write_vtk is never called.
+    vtk_name: str | None = None
+
+    def write_vtk(self, directory: str, stem: str, time: float) -> str:
+        """For an effect with a vtk_name: write its part at the model's
+        current state into ``directory`` (which exists), file names starting
+        with ``stem``, at ``time`` (collective); return the path of the file
+        to index (on rank 0)."""
+        raise NotImplementedError(f"{type(self).__name__} has a vtk_name but no write_vtk")
+
+    def contact_elements(self) -> dict | None:
+        """This rank's contact elements for the output's ``contacts_<step>.vtu``
+        (collective call: every rank gets its own), or None if the effect has
+        none to show. Arrays, one row per element: ``position_i``,
+        ``position_j`` (n, 3), ``normal_force``, ``gap``, ``normal``,
+        ``tangential_force``, ``slip``, ``penalty``, ``fibre_i``,
+        ``fibre_j``; every effect that returns them gives the same keys."""
+        return None

@@ -514,6 +514,11 @@ class ElasticBlock(Effect):
         vdofs = self.V.dofmap.list.array.reshape(-1, self.nodes_per_cell)[:, :4]
         return gdofs.ravel(), vdofs.ravel()
 
+    @property
+    def vtk_name(self) -> str:
+        """The block's ParaView part (Effect.vtk_name): its name."""
+        return self.name
+
     def write_vtk(self, directory: str, stem: str, time: float) -> str:
         """Write the block at the model's current state with dolfinx's
         VTKFile (collective): ``<directory>/<stem>000000.pvtu`` and one

@@ -434,7 +434,6 @@ class FibreContact(Effect):
         self.penalty_conversions = 0
         self.held_contacts = 0
         self._newton_pending = False  # a Newton solve follows (prepare, or update True)
-        self._tangents = 0            # tangents assembled in that solve so far
         self._check_order()
 
     # -- detection and history -----------------------------------------------
@@ -507,7 +506,7 @@ class FibreContact(Effect):
         if not self._matrix_has_contact or not self.coverage.covers(new, self.pattern_margin):
             self.coverage.add(new, self.pattern_margin)
             self._matrix_has_contact = True
-            self.model.matrix_stale = True
+            self.model.request_matrix_rebuild()
         # what matters is what the elements do to the fibres at this state
         after = new.nodal_forces(q)
         diff = comm.allreduce(float(np.sum((after - before) ** 2)))
@@ -606,7 +605,7 @@ class FibreContact(Effect):
         self.held_contacts = 0
         # after a mode change, every attempt's first pass sets normals anew
         self._rebuild(q, reset_normals=self._reset_normals)
-        self._newton_pending, self._tangents = True, 0
+        self._newton_pending = True
 
     def _check_crossed(self) -> None:
         """After a converged Newton solve, at the set's evaluation: fibres
@@ -651,7 +650,7 @@ class FibreContact(Effect):
         changed = self._rebuild(q, persist=True) or emergency > 0
         # another Newton solve follows only if something changed (not, e.g.,
         # the stability check's factorization at the converged state)
-        self._newton_pending, self._tangents = changed, 0
+        self._newton_pending = changed
         return changed
 
     def commit(self, model) -> None:
@@ -680,14 +679,13 @@ class FibreContact(Effect):
         self.set.set_depth_scale(self._depth_scale())
         # the first tangents of a Newton solve keep a floor that decays by
         # FLOOR_DECAY an iteration (first contact at zero gap, see
-        # ContactOptions.tangent_floor)
-        floor = self.options.tangent_floor * FLOOR_DECAY ** self._tangents \
+        # ContactOptions.tangent_floor); the model counts the iterations
+        floor = self.options.tangent_floor * FLOOR_DECAY ** state.tangent_index \
             if self._newton_pending else 0.0
         self.set.set_tangent_floor(floor)
         # penetrations beyond the adaptation band: the tangent of held
         # points (ContactSet.set_motion_depth)
         self.set.set_motion_depth(self.options.penalty_band[1] * self.adaptation.target)
-        self._tangents += 1
         self.set.assemble_matrix(q, self.model.beam_global_dofs(state), A)
 
     # -- saved states (textile.io.state_file) ----------------------------------------
@@ -862,3 +860,7 @@ class FibreContact(Effect):
         gaps, normal and tangential forces, slip flags, penalty per unit
         length and the contact length each element stands for."""
         return self.set.data()
+
+    def contact_elements(self) -> dict:
+        """The output's contact elements (Effect.contact_elements): :meth:`elements`."""
+        return self.elements()

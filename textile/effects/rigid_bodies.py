@@ -263,13 +263,14 @@ class RigidBodies(Effect):
         saved bodies, if any, belong to the old scene). The first Newton
         iteration finds the forces that hold the loaded state."""
         mesh = model.mesh
-        u = model._gather_beam(model.state().u["beam"])
+        u = model.beam_values(model.x)
         self._grab(model, mesh.X_global + u)
-        arrays = [a.copy() for a in model.layout.get_local(model.x)]
+
+        def zero(a):
+            a[:] = 0.0
+
         for name in ("rigid", "rigid_multipliers"):
-            arrays[model.layout.index(name)][:] = 0.0
-        model.layout.scatter(model.x, arrays)
-        model.x.ghostUpdate()
+            model.set_field_values(name, zero)
 
     def _row_scales(self, model, nodes) -> tuple[np.ndarray, np.ndarray]:
         """Row scales s: fibres E A / h of the end element (x0 rows), times
@@ -456,9 +457,11 @@ class RigidBodies(Effect):
             self.rotation[b] = _cpp.rotation_matrix(np.ascontiguousarray(theta)) @ self.rotation[b]
             self.turned[b] += theta
         self._set_couplings()
-        arrays = [a.copy() for a in model.layout.get_local(model.x)]
-        arrays[model.layout.index("rigid")].reshape(-1, 6)[:, 3:6] = 0.0
-        model.layout.scatter(model.x, arrays)
+
+        def unturn(a):  # the increment is in R_n now
+            a.reshape(-1, 6)[:, 3:6] = 0.0
+
+        model.set_field_values("rigid", unturn)
         self._statistics(model)
 
     # -- saved states (textile.io.state_file) ----------------------------------

@@ -461,8 +461,7 @@ def load_fibres(model, path: str) -> dict:
     effects = data.get("effects", {})
     _set_fields(model, {"beam": {"unknowns": u[model.mesh.local_to_global].ravel()}})
     for e in model.effects:
-        if hasattr(e, "load_fibres"):
-            e.load_fibres(model, effects.get(e.state_name, {}) if e.state_name else {})
+        e.load_fibres(model, effects.get(e.state_name, {}) if e.state_name else {})
     model.x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
     return attrs
 
