@@ -172,8 +172,7 @@ def test_plain_weave_scene_is_the_api_weave(woven_mono):
 def test_resume_between_stages_ends_as_the_uninterrupted_run(woven_mono, tmp_path):
     """--resume from the state saved at the end of the weaving stage (step
     5) relaxes to the same woven state, to round-off. (Within the weaving
-    stage a resumed weave does not yet end where the continuous one does:
-    the contact's weaving state, not the scene file, see the report.)"""
+    stage: tests/io/test_state_file.py, through the API.)"""
     state = woven_mono / "state_00005.h5"
     _, out, _ = run_cli("run", "demos/scenes/plain_weave.toml", "--output", str(tmp_path),
                         *MONO, "--resume", str(state))

@@ -769,6 +769,11 @@ class FibreContact(Effect):
         self.set = _cpp.ContactSet.from_saved(columns, num_zones, q, mesh.first_node,
                                               mesh.order, self.radius, self.g_r, self._mu(),
                                               self.u_rev, mesh.owned, **self._friction_args())
+        # the weaving stage's depths (not saved: from the reference state);
+        # without them a state saved within that stage read the yarns'
+        # remaining interpenetration as penetration, and the resumed run
+        # retuned every zone's penalty (a crimp 2% off the continuous run's)
+        self._set_depths(self.set)
         self.set.evaluate(q)  # results at the loaded state, as after a commit
         self._committed = self.set.copy()
         self.coverage = _cpp.CouplingPattern()
