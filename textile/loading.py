@@ -27,6 +27,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .effects.base import Effect
+
 
 class Handle:
     """Components ``index`` of ``schedule``: a quantity a stage can ramp,
@@ -133,6 +135,18 @@ class Schedule:
     def restore(self, snapshot: tuple) -> None:
         self.start, self.target, self.active, self._callables = (
             snapshot[0].copy(), snapshot[1].copy(), snapshot[2].copy(), list(snapshot[3]))
+
+    def load_saved(self, start, target, active, done=None) -> None:
+        """Take the values a saved state holds (textile.io.state_file):
+        each entry's stage start, target and whether it is active; ``done``
+        (a mask, the current values): entries of a finished stage whose
+        callables' end values stand for them from now on."""
+        self.start = np.array(start, dtype=float)
+        self.target = np.array(target, dtype=float)
+        self.active = np.array(active, dtype=bool)
+        if done is not None:
+            mask, current = done
+            self.start[mask] = self.target[mask] = np.asarray(current)[mask]
 
     def forget_callables(self) -> None:
         """Drop every callable: the components keep ``start`` and ``target``
@@ -259,7 +273,7 @@ class Stage:
                                      f"released prescription no longer has a value to ramp "
                                      f"(ramp it in one stage, release it in the next)")
         for effect, options in self.effects.items():
-            if not callable(getattr(effect, "configure", None)):
+            if not isinstance(effect, Effect):
                 raise TypeError(f"{label}: effects keys must be effects (with configure), got "
                                 f"{effect!r}")
             if not isinstance(options, dict):

@@ -69,7 +69,7 @@ def test_built_in_the_woven_configuration(woven):
     assert np.abs(c.junctions.gaps()).max() < 1e-15
     assert c.junctions.statistics()["junctions_outside"] == 0
     saved = textile.saved_configuration(woven)
-    x = c.model.mesh.X_global + c.model._gather_beam(st.u["beam"])
+    x = c.model.mesh.X_global + c.model.beam_values(c.model.x)
     assert np.abs(x - saved).max() < 1e-15
     # every crossing still in pattern order
     assert np.all(crossing_separation(c.fabric, c.model) > 0)

@@ -366,14 +366,14 @@ def test_parallel_equals_serial():
 def test_coupling_rows_floor_counts_coordinates():
     """The round-off floor of a coupling row that places a matrix node or a
     body at X + u counts eps |X|, however small u is: the kernels' reference
-    values (Model._X_q) hold the block's node coordinates and the bodies'
+    values (Model.reference_values) hold the block's node coordinates and the bodies'
     centres. Without them a stiff matrix (E_m = 1e4 E_f) stalled at a
     multiplier residual 240 times its floor (on some CPUs: round-off)."""
     model, _, block, _, (left, right) = composite(MPI.COMM_SELF, 8, "displacement")
     model.setup()
-    arrays = model.layout.get_local(model._X_q)  # owned then ghosts, per field
-    X_block = arrays[model.layout.index(block.name)]
+    arrays = model.reference_values()  # owned then ghosts, per field
+    X_block = arrays[block.name]
     assert np.array_equal(X_block.reshape(-1, 3), block.node_coordinates())
-    X_rigid = arrays[model.layout.index("rigid")].reshape(-1, 6)
+    X_rigid = arrays["rigid"].reshape(-1, 6)
     assert np.allclose(X_rigid[0, 0:3], [0.0, W / 2, H / 2])  # the left side's centre
     assert np.all(X_rigid[:, 3:] == 0.0)

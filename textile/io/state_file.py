@@ -496,14 +496,12 @@ def load_state(model, path: str, solver=None) -> dict:
     stage_index = int(attrs.get("stage_index", 0))
     following = []
     for saved, sched in zip(schedules, model.schedules()):
-        sched.start = np.array(saved["start"], dtype=float)
-        sched.target = np.array(saved["target"], dtype=float)
-        sched.active = np.array(saved["active"], dtype=bool)
         follows = np.array(saved["following"], dtype=bool)
         following.append(follows)
+        # the stage done: its callables' end values stand for them
+        sched.load_saved(saved["start"], saved["target"], saved["active"],
+                         (follows, saved["current"]) if complete else None)
         if complete:
-            # the stage is done: its callables' end values stand for them
-            sched.start[follows] = sched.target[follows] = saved["current"][follows]
             sched.forget_callables()
         elif stage_index > 0:
             # within a later stage: the scene's callables belong to its first
