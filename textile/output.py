@@ -40,8 +40,7 @@ import numpy as np
 from mpi4py import MPI
 
 from .fibre_loads import FIGURES, element_loads, fibre_maxima, gathered_element_fields, top_fibres
-from .io import PVDSeries, ResultsLog, write_fibres_vtu
-from .io.vtu import atomic_write_bytes
+from .io import PVDSeries, ResultsLog, SceneSeries, write_fibres_vtu
 
 _VOIGT = ("11", "22", "33", "23", "13", "12")
 # arrays Output writes itself: a fibre_data array may not take their names
@@ -50,39 +49,6 @@ _RESERVED = {"fibre_id", "radius", "displacement", "g1", "g2", "curvature",
     f"{kind}_{c}" for kind in ("strain", "stress") for c in _VOIGT}
 #: fibres listed per step in results.json (most_loaded_fibres)
 TOP_FIBRES = 5
-
-
-class SceneSeries:
-    """ParaView collection (``.pvd``) of several parts per time step: each
-    step lists its data sets with ``part`` numbers (and ``name``
-    attributes), which ParaView shows as one multiblock data set per step.
-    Rewritten atomically after every :meth:`add`, like :class:`PVDSeries`."""
-
-    def __init__(self, path: str):
-        self.path = path
-        self._steps: list[tuple[float, list[tuple[str, str]]]] = []
-        self._write()
-
-    def add(self, time: float, parts: list[tuple[str, str]]) -> None:
-        """One step at ``time``: ``parts`` = [(name, file path)], in part order."""
-        base = os.path.dirname(os.path.abspath(self.path))
-        rel = [(name, os.path.relpath(os.path.abspath(p), base).replace(os.sep, "/"))
-               for name, p in parts]
-        self._steps.append((float(time), rel))
-        self._write()
-
-    def _write(self) -> None:
-        import xml.etree.ElementTree as ET
-        root = ET.Element("VTKFile", {"type": "Collection", "version": "0.1",
-                                      "byte_order": "LittleEndian"})
-        collection = ET.SubElement(root, "Collection")
-        for t, parts in self._steps:
-            for k, (name, rel) in enumerate(parts):
-                ET.SubElement(collection, "DataSet", {"timestep": repr(t), "group": "",
-                                                      "part": str(k), "name": name,
-                                                      "file": rel})
-        ET.indent(root)
-        atomic_write_bytes(self.path, ET.tostring(root, encoding="utf-8", xml_declaration=True))
 
 
 class Output:
