@@ -15,7 +15,10 @@ petsc4py.init(_sys.argv)  # a no-op if PETSc is already initialized
 from petsc4py import PETSc  # noqa: E402,F401
 
 from . import _cpp  # noqa: E402
+from . import log  # noqa: E402
 from . import runtime  # noqa: E402
+
+log.configure()  # the textile logger: rank in the lines, ranks > 0 quiet
 
 # one OpenBLAS thread per core, shared by the ranks on a node (no
 # oversubscription under mpirun); see textile.runtime

@@ -57,18 +57,22 @@ def main(argv=None, comm=None) -> int:
     from mpi4py import MPI
 
     from .io.state_file import SceneMismatchError, StateFileError
+    from .log import get_logger
     from .scene_file import SceneError, read_scene
     from .solver import ConvergenceError
     comm = MPI.COMM_WORLD if comm is None else comm
 
-    def say(message, stream=sys.stdout):
+    log = get_logger("textile.cli")
+
+    def say(message, error=False):
+        # every rank meets the same (collective) error: rank 0 names it
         if comm.rank == 0:
-            print(message, file=stream, flush=True)
+            (log.error if error else log.info)(message)
 
     try:
         scene = read_scene(args.scene, args.overrides)
     except SceneError as error:
-        say(f"error: {error}", sys.stderr)
+        say(f"error: {error}", error=True)
         return 2
     if args.command == "check":
         say(f"{args.scene}: a valid {scene.kind} scene")
@@ -81,10 +85,10 @@ def main(argv=None, comm=None) -> int:
         scene.run(output=args.output, resume=args.resume, comm=comm)
     except (SceneError, SceneMismatchError, StateFileError) as error:
         # a state file of another scene, or unreadable (--resume, test.woven)
-        say(f"error: {error}", sys.stderr)
+        say(f"error: {error}", error=True)
         return 2
     except ConvergenceError as error:
-        say(f"stopped: {error}", sys.stderr)
+        say(f"stopped: {error}", error=True)
         return 1
     say(f"done; key figures in {scene.output_directory(args.output)}/summary.json")
     return 0

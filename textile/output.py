@@ -27,8 +27,10 @@ each block (parts 1, 2, ...) as the blocks of one multiblock data set.
 Per-fibre labels (``fibre_data``, e.g. each fibre's yarn) go on every
 fibres .vtu as point and cell arrays. Pictures of the final state
 (``sample.png``, ``sample_top.png``, ``cut_*.png``; see
-:mod:`textile.io.sample_pictures`) are drawn after the results are written;
-a picture that fails is a warning, never a lost result.
+:mod:`textile.io.sample_pictures`) are drawn from the written fibres file
+when a stage ends (or the run fails, or on :meth:`Output.finish`), never
+while a stage is being solved; a picture that fails is a warning, never a
+lost result.
 """
 from __future__ import annotations
 
@@ -40,8 +42,7 @@ import numpy as np
 from mpi4py import MPI
 
 from .fibre_loads import FIGURES, element_loads, fibre_maxima, gathered_element_fields, top_fibres
-from .io import PVDSeries, ResultsLog, write_fibres_vtu
-from .io.vtu import atomic_write_bytes
+from .io import PVDSeries, ResultsLog, SceneSeries, write_fibres_vtu
 
 _VOIGT = ("11", "22", "33", "23", "13", "12")
 # arrays Output writes itself: a fibre_data array may not take their names
@@ -50,39 +51,6 @@ _RESERVED = {"fibre_id", "radius", "displacement", "g1", "g2", "curvature",
     f"{kind}_{c}" for kind in ("strain", "stress") for c in _VOIGT}
 #: fibres listed per step in results.json (most_loaded_fibres)
 TOP_FIBRES = 5
-
-
-class SceneSeries:
-    """ParaView collection (``.pvd``) of several parts per time step: each
-    step lists its data sets with ``part`` numbers (and ``name``
-    attributes), which ParaView shows as one multiblock data set per step.
-    Rewritten atomically after every :meth:`add`, like :class:`PVDSeries`."""
-
-    def __init__(self, path: str):
-        self.path = path
-        self._steps: list[tuple[float, list[tuple[str, str]]]] = []
-        self._write()
-
-    def add(self, time: float, parts: list[tuple[str, str]]) -> None:
-        """One step at ``time``: ``parts`` = [(name, file path)], in part order."""
-        base = os.path.dirname(os.path.abspath(self.path))
-        rel = [(name, os.path.relpath(os.path.abspath(p), base).replace(os.sep, "/"))
-               for name, p in parts]
-        self._steps.append((float(time), rel))
-        self._write()
-
-    def _write(self) -> None:
-        import xml.etree.ElementTree as ET
-        root = ET.Element("VTKFile", {"type": "Collection", "version": "0.1",
-                                      "byte_order": "LittleEndian"})
-        collection = ET.SubElement(root, "Collection")
-        for t, parts in self._steps:
-            for k, (name, rel) in enumerate(parts):
-                ET.SubElement(collection, "DataSet", {"timestep": repr(t), "group": "",
-                                                      "part": str(k), "name": name,
-                                                      "file": rel})
-        ET.indent(root)
-        atomic_write_bytes(self.path, ET.tostring(root, encoding="utf-8", xml_declaration=True))
 
 
 class Output:
@@ -96,9 +64,12 @@ class Output:
     (e.g. ``{"yarn": fabric.fibre_yarn}``); ``"yarn"`` also colours the
     pictures.
     ``pictures``: ``"last"`` (default) draws the pictures when a stage ends
-    (load factor 1), when the run fails (its last converged state) and on
-    :meth:`finish`; ``True`` at every written step (files suffixed
-    ``_<step>``); ``False`` never.
+    (load factor 1; in :meth:`Solver.run` the last stage only), when the run
+    fails (its last written step) and on :meth:`finish`; ``True`` of every
+    written step (files suffixed ``_<step>``), drawn when its stage ends or
+    the run fails; ``False`` never. Either way from the written fibres
+    files (:func:`textile.io.sample_pictures.draw_vtu_pictures`), and a
+    stage's last step is always written when there are pictures.
     ``yarn_directions``: per yarn id, ``"warp"``, ``"weft"`` or a 3-vector:
     one cut picture per direction (``cut_warp.png``, ...); without it one
     cut normal to the mean fibre direction. For a fabric,
@@ -136,8 +107,11 @@ class Output:
         self._scene_pvd = None
         self._block_pvds = {}
         self._log = None
-        self._last = None         # (step, centre lines, radii) of the last state, rank 0
-        self._drawn_step = None   # the step the "last" pictures show
+        self._last_step = (0, 0.0)     # (step, time) of the last state written or not
+        self._written_steps = set()    # the steps whose fibres .vtu is written (every rank)
+        self._written = []             # [(step, fibres .vtu)] in order, rank 0
+        self._drawn_step = None        # the step the "last" pictures show
+        self._drawn_steps = set()      # the steps drawn with pictures=True
         #: set by Solver.run while stages remain: "last" draws at the run's end
         self.hold_pictures = False
 
@@ -193,34 +167,28 @@ class Output:
         model = solver.model
         self._open(model)
         extra = self.extra(model) if self.extra else {}
-        write_vtu = record.step % self.every == 0
-        # every step: the fibres' loads for results.json, and with "last"
-        # the state is kept for the pictures of a failed run
+        stage_end = record.load_factor >= 1.0 - 1e-12
+        # a stage's last step is written whenever there are pictures: they
+        # are drawn from it
+        write_vtu = record.step % self.every == 0 or (bool(self.pictures) and stage_end)
+        # every step: the fibres' loads for results.json
         q = model.nodal_unknowns()
         element_fields = gathered_element_fields(model, root=0)
         contacts = self._contact_elements(model) if write_vtu else None
         blocks = self._write_blocks(model, record) if write_vtu else []
+        self._last_step = (record.step, record.time)
+        if write_vtu:
+            self._written_steps.add(record.step)
         if model.comm.rank != 0:
             return
         if contacts is not None and len(contacts["gap"]):
             self._write_contacts(record, contacts)
         mesh = model.mesh
-        lines = [q[mesh.fibre_nodes(f), 0:3] for f in range(len(mesh.fibres))]
         per_element = element_loads(mesh, q[:, 0:3], element_fields)
         loads = fibre_maxima(mesh, per_element)
         if write_vtu:
-            counts = np.array([f.num_nodes for f in mesh.fibres])
-            per_fibre = {**{k: loads[k] for k in FIGURES}, **self.fibre_data}
-            point_data = {"displacement": q[:, 0:3] - mesh.X_global[:, 0:3],
-                          "g1": q[:, 3:6], "g2": q[:, 6:9],
-                          "radius": np.repeat([f.radius for f in mesh.fibres], counts)}
-            point_data.update({k: np.repeat(a, counts) for k, a in per_fibre.items()})
-            fields = self._segment_fields(mesh, element_fields, per_element)
-            fields.update({k: np.repeat(a, counts - 1) for k, a in per_fibre.items()})
-            name = f"fibres_{record.step:05d}.vtu"
-            path = os.path.join(self.directory, name)
-            write_fibres_vtu(path, lines, point_data=point_data, cell_data=fields)
-            self._pvd.add(record.time, path)
+            path = self._write_fibres(mesh, q, element_fields, per_element, loads,
+                                      (record.step, record.time))
             self._index_blocks(record, path, blocks)
         self._log.append(dict(step=record.step, stage=record.stage, time=record.time,
                               load_factor=record.load_factor,
@@ -233,13 +201,27 @@ class Output:
                               **{f"residual_{k}": v for k, v in record.residuals.items()},
                               **record.stability,
                               **record.effects, **extra))
-        if self.pictures:
-            self._last = (record.step, lines, [f.radius for f in mesh.fibres])
-        if self.pictures is True and write_vtu:
-            self._draw(f"_{record.step:05d}")
-        elif self.pictures == "last" and record.load_factor >= 1.0 - 1e-12 \
-                and not self.hold_pictures:
-            self._draw()
+        # pictures only at a stage's end, from the written files (never
+        # while a stage is being solved): "last" of the run's last stage
+        if stage_end and not (self.pictures == "last" and self.hold_pictures):
+            self._draw_due()
+
+    def _write_fibres(self, mesh, q, element_fields, per_element, loads, record) -> str:
+        """Rank 0: the fibres' .vtu of a step, added to fibres.pvd; its path."""
+        lines = [q[mesh.fibre_nodes(f), 0:3] for f in range(len(mesh.fibres))]
+        counts = np.array([f.num_nodes for f in mesh.fibres])
+        per_fibre = {**{k: loads[k] for k in FIGURES}, **self.fibre_data}
+        point_data = {"displacement": q[:, 0:3] - mesh.X_global[:, 0:3],
+                      "g1": q[:, 3:6], "g2": q[:, 6:9],
+                      "radius": np.repeat([f.radius for f in mesh.fibres], counts)}
+        point_data.update({k: np.repeat(a, counts) for k, a in per_fibre.items()})
+        fields = self._segment_fields(mesh, element_fields, per_element)
+        fields.update({k: np.repeat(a, counts - 1) for k, a in per_fibre.items()})
+        path = os.path.join(self.directory, f"fibres_{record[0]:05d}.vtu")
+        write_fibres_vtu(path, lines, point_data=point_data, cell_data=fields)
+        self._pvd.add(record[1], path)
+        self._written.append((record[0], path))
+        return path
 
     @staticmethod
     def _blocks(model) -> list:
@@ -312,38 +294,54 @@ class Output:
 
     def failure(self, message: str) -> None:
         """Record why a run stopped (kept in results.json's meta), then draw
-        the pictures of the last converged state ("last")."""
+        the pictures due: "last" of the last written step (the last
+        converged one unless ``every`` > 1), True of each written step not
+        drawn yet."""
         if self._log:
             self._log.set_meta(failure=message)
-            if self.pictures == "last":
-                self._draw()
+            self._draw_due()
 
     def finish(self, model) -> None:
-        """Draw the pictures of the model's current state now (every rank
-        must call: the state is gathered), e.g. after ``solver.solve(t)``
-        stopped inside a stage. Written steps and results are not touched."""
+        """Draw the pictures of the model's state now (every rank must call),
+        e.g. after ``solver.solve(t)`` stopped inside a stage: its last step
+        (or the start, before any) is written first if it was not, and the
+        pictures are drawn from that file. Results are not touched."""
         self._open(model)
-        q = model.nodal_unknowns()
+        step, time = self._last_step
+        if self.pictures and step not in self._written_steps:
+            q = model.nodal_unknowns()
+            element_fields = gathered_element_fields(model, root=0)
+            self._written_steps.add(step)
+            if model.comm.rank == 0:
+                per_element = element_loads(model.mesh, q[:, 0:3], element_fields)
+                self._write_fibres(model.mesh, q, element_fields, per_element,
+                                   fibre_maxima(model.mesh, per_element), (step, time))
         if model.comm.rank != 0 or not self.pictures:
             return
-        mesh = model.mesh
-        lines = [q[mesh.fibre_nodes(f), 0:3] for f in range(len(mesh.fibres))]
-        step = self._last[0] if self._last else 0
-        self._last = (step, lines, [f.radius for f in mesh.fibres])
         self._drawn_step = None
-        self._draw()
+        self._draw_due()
 
-    def _draw(self, suffix: str = "") -> None:
-        """Pictures of the kept state (rank 0); failures are warnings."""
-        if self._last is None or (not suffix and self._drawn_step == self._last[0]):
-            return
+    def _draw_due(self) -> None:
+        """Rank 0: "last": the pictures of the last written step, unless
+        drawn already; True: of every written step not drawn yet (suffix
+        ``_<step>``)."""
+        if self.pictures is True:
+            for step, path in self._written:
+                if step not in self._drawn_steps:
+                    self._drawn_steps.add(step)
+                    self._draw(step, path, f"_{step:05d}")
+        elif self.pictures == "last" and self._written \
+                and self._drawn_step != self._written[-1][0]:
+            self._draw(*self._written[-1])
+
+    def _draw(self, step: int, vtu: str, suffix: str = "") -> None:
+        """Pictures of step ``step`` from its fibres file ``vtu`` (rank 0);
+        failures are warnings."""
         from .io.render import RenderingWarning
-        from .io.sample_pictures import draw_sample_pictures
-        step, lines, radii = self._last
+        from .io.sample_pictures import draw_vtu_pictures
         try:
-            drawn, errors = draw_sample_pictures(self.directory, lines, radii,
-                                                 self.fibre_data.get("yarn"), self._yarn_axes,
-                                                 suffix, self.picture_size)
+            drawn, errors = draw_vtu_pictures(vtu, self.directory, self._yarn_axes, suffix,
+                                              self.picture_size)
         except Exception as e:    # a picture must never cost the results
             drawn, errors = {}, [f"{type(e).__name__}: {e}"]
         if not suffix:

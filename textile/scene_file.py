@@ -29,6 +29,9 @@ import math
 import os
 import tomllib
 
+from .log import get_logger
+
+_log = get_logger(__name__)
 KINDS = ("weave", "virtual_test", "fibres")
 TEST_TYPES = ("tension", "shear", "bending", "twisting", "picture_frame")
 REQUIRED = object()
@@ -897,8 +900,7 @@ class Scene:
                     args["displacement"] = case["displacement"]
                 if case["pin"] is not None:
                     args["pin"] = case["pin"]
-            if comm.rank == 0:
-                print(f"== {label}: {kind} test", flush=True)
+            _log.info(f"== {label}: {kind} test")
             with self._building(path):
                 runner = classes[kind](fabric, woven, **args)
             result = runner.run()
@@ -908,9 +910,8 @@ class Scene:
                                              ylabel=result.curve.ylabel),
                                   force_balance=result.force_balance,
                                   steps=len(result.steps))
-            if comm.rank == 0:
-                for name, value in result.figures.items():
-                    print(f"  {name}: {value}", flush=True)
+            for name, value in result.figures.items():
+                _log.info(f"  {name}: {value}")
         return dict(woven=woven, tests=results)
 
     def _run_fibres(self, directory, resume, comm):
@@ -1007,9 +1008,8 @@ class Scene:
                             on_step=self._checkpoint(directory))
         self._run_stages(solver, stages, resume)
         figures = measure(model)
-        if comm.rank == 0:
-            for name, value in figures.items():
-                print(f"  {name}: {value:.10g}", flush=True)
+        for name, value in figures.items():
+            _log.info(f"  {name}: {value:.10g}")
         return dict(steps=solver.position()["steps"], load_factor=model.load_factor,
                     time=solver.history[-1].time if solver.history else None,
                     energy=solver.history[-1].energy if solver.history else None,

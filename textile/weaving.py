@@ -41,6 +41,7 @@ from .fabric import Fabric
 from .io import fabric_labels
 from .io.state_file import save_state
 from .loading import Stage
+from .log import get_logger
 from .model import Model
 from .output import Output
 from .rigid_body import RigidBody
@@ -154,14 +155,14 @@ def woven_state(fabric: Fabric, path: str, solver_options=None, comm=MPI.COMM_WO
     """Weave ``fabric`` (:class:`Weaving` with ``weaving_options``) and save
     the woven state to ``path`` (:func:`textile.save_state`, with each
     fibre's yarn), the start of composites and virtual tests; returns
-    ``path``. ``report``: rank 0 prints how many crossings are in pattern
+    ``path``. ``report``: logs (rank 0) how many crossings are in pattern
     order. Collective."""
     weaving = Weaving(fabric, comm=comm, **weaving_options)
     weaving.run(solver_options=solver_options)
     save_state(weaving.model, path, fibre_data={"yarn": fabric.fibre_yarn})
     if report:
         summary = weaving.summary()   # collective
-        if comm.rank == 0:
-            print(f"woven: {summary['crossings in pattern order']} of {summary['crossings']} "
-                  f"crossings in pattern order, saved to {path}")
+        get_logger(__name__).info(
+            f"woven: {summary['crossings in pattern order']} of {summary['crossings']} "
+            f"crossings in pattern order, saved to {path}")
     return path

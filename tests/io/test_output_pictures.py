@@ -89,3 +89,43 @@ def test_a_run_of_stages_draws_its_final_state_once(tmp_path, no_vtk, monkeypatc
     solver.run([textile.Stage("first"), textile.Stage("second")])
     assert calls == [len(solver.history)]
     assert {p["step"] for p in meta(tmp_path)["pictures"].values()} == {len(solver.history)}
+
+
+@pytest.mark.filterwarnings("ignore::textile.io.render.RenderingWarning")
+def test_pictures_are_drawn_at_the_stage_end_from_written_files(tmp_path, no_vtk, monkeypatch):
+    # pictures=True: every written step's pictures, all drawn when the stage
+    # ends (none while it is solved), each from its fibres file
+    model = bar(0.1)
+    out = textile.Output(str(tmp_path), every=2, pictures=True)
+    calls = []
+    draw = out._draw
+    monkeypatch.setattr(out, "_draw", lambda step, vtu, *a: (
+        calls.append((len(solver.history), step, vtu)), draw(step, vtu, *a)))
+    solver = textile.Solver(model, dict(initial_step=0.25, max_step=0.25, **QUIET), output=out)
+    solver.solve()
+    assert calls == [(4, k, str(tmp_path / f"fibres_{k:05d}.vtu")) for k in (2, 4)]
+    # "last" with every=3: the stage's last step (4) is written for its pictures
+    model = bar(0.1)
+    out = textile.Output(str(tmp_path / "last"), every=3)
+    textile.Solver(model, dict(initial_step=0.25, max_step=0.25, **QUIET), output=out).solve()
+    assert sorted(p.name for p in (tmp_path / "last").glob("fibres_*.vtu")) == \
+        ["fibres_00003.vtu", "fibres_00004.vtu"]
+    assert {p["step"] for p in meta(tmp_path / "last")["pictures"].values()} == {4}
+
+
+@pytest.mark.filterwarnings("ignore::textile.io.render.RenderingWarning")
+def test_pictures_of_any_written_step_after_the_run(tmp_path, no_vtk):
+    import numpy as np
+    model = bar(0.1)
+    solver = textile.Solver(model, dict(initial_step=0.5, max_step=0.5, **QUIET),
+                            output=textile.Output(str(tmp_path), pictures=False,
+                                                  fibre_data={"yarn": [7]}))
+    solver.solve()
+    lines, radii, yarn = sample_pictures.read_fibres_vtu(str(tmp_path / "fibres_00002.vtu"))
+    np.testing.assert_array_equal(lines[0], model.centreline(0))
+    assert radii.tolist() == [model.mesh.fibres[0].radius] and yarn.tolist() == [7]
+    drawn, errors = sample_pictures.draw_vtu_pictures(str(tmp_path / "fibres_00001.vtu"),
+                                                      str(tmp_path), suffix="_first")
+    assert not errors and set(drawn) == {"sample_first.png", "sample_top_first.png",
+                                         "cut_first.png"}
+    assert all((tmp_path / name).stat().st_size > 1000 for name in drawn)

@@ -1,4 +1,5 @@
-"""Tests for textile.io.vtu: VTU polyline output and PVD collections."""
+"""Tests for textile.io.vtu (VTU polylines, written by meshio) and
+textile.io.pvd (PVD collections)."""
 
 import os
 import xml.etree.ElementTree as ET
@@ -7,7 +8,8 @@ import meshio
 import numpy as np
 import pytest
 
-from textile.io.vtu import PVDSeries, write_fibres_vtu
+from textile.io.pvd import PVDSeries, SceneSeries
+from textile.io.vtu import write_fibres_vtu
 
 
 def two_fibres():
@@ -18,7 +20,7 @@ def two_fibres():
 
 
 def write_example(path):
-    """Write the two-fibre example with point, cell and field data; return the data."""
+    """Write the two-fibre example with point and cell data; return the data."""
     lines = two_fibres()
     point_data = {
         "displacement": np.arange(15, dtype=float).reshape(5, 3) / 7.0,
@@ -29,8 +31,7 @@ def write_example(path):
         "axial_force": np.array([-1.0e3, 2.0e-3, np.pi]),
         "material": np.array([7, 7, 9], dtype=np.int32),
     }
-    field_data = {"time": 0.25}
-    write_fibres_vtu(path, lines, point_data, cell_data, field_data)
+    write_fibres_vtu(path, lines, point_data, cell_data)
     return lines, point_data, cell_data
 
 
@@ -55,8 +56,6 @@ def test_roundtrip_with_meshio(tmp_path):
         np.testing.assert_array_equal(mesh.cell_data[name][0], values)
     # fibre_id cell array tags each segment with its fibre index
     np.testing.assert_array_equal(mesh.cell_data["fibre_id"][0], [0, 0, 1])
-    # field data (global scalar) is stored as a 1-element array
-    np.testing.assert_array_equal(mesh.field_data["time"], [0.25])
 
 
 def test_binary_encoding_and_types(tmp_path):
@@ -125,9 +124,6 @@ def test_bad_point_and_cell_data(tmp_path):
     # fibre_id is reserved because it is added automatically
     with pytest.raises(ValueError, match=r"cell_data\['fibre_id'\].*reserved"):
         write_fibres_vtu(tmp_path / "a.vtu", lines, cell_data={"fibre_id": np.zeros(3)})
-    # field data with more than 2 dimensions cannot be described in VTK XML
-    with pytest.raises(ValueError, match=r"field_data\['F'\]"):
-        write_fibres_vtu(tmp_path / "a.vtu", lines, field_data={"F": np.zeros((2, 2, 2))})
 
 
 def test_atomic_write_keeps_old_file_on_failure(tmp_path, monkeypatch):
@@ -159,7 +155,7 @@ def test_pvd_series(tmp_path):
     times = [0.0, 0.5, 1.25]
     for k, t in enumerate(times):
         vtu = out / "steps" / f"fibres_{k:06d}.vtu"
-        write_fibres_vtu(vtu, two_fibres(), field_data={"time": t})
+        write_fibres_vtu(vtu, two_fibres())
         series.add(t, vtu)
         # after each add the file is a valid index of the steps so far
         assert len(ET.parse(pvd).getroot().findall("Collection/DataSet")) == k + 1
@@ -199,3 +195,12 @@ def test_pvd_rejects_bad_times(tmp_path):
         series.add(0.5, tmp_path / "b.vtu")
     # rejected entries are not recorded
     assert len(series.entries) == 1
+
+
+def test_scene_series_names_its_parts(tmp_path):
+    scene = SceneSeries(tmp_path / "scene.pvd")
+    scene.add(0.5, [("fibres", tmp_path / "fibres_1.vtu"), ("block", tmp_path / "b/b_1.pvtu")])
+    datasets = ET.parse(tmp_path / "scene.pvd").getroot().findall("Collection/DataSet")
+    # one step, its parts numbered in order and named, paths relative to the .pvd
+    assert [(d.get("timestep"), d.get("part"), d.get("name"), d.get("file")) for d in datasets] \
+        == [("0.5", "0", "fibres", "fibres_1.vtu"), ("0.5", "1", "block", "b/b_1.pvtu")]

@@ -1,7 +1,9 @@
 """Output of textile simulations: ParaView files, result logs and plots.
 
 - :mod:`textile.io.vtu`: fibre centre lines as VTK XML UnstructuredGrid
-  (``.vtu``) polylines, and ParaView ``.pvd`` time-series collections.
+  (``.vtu``) polylines, written by meshio.
+- :mod:`textile.io.pvd`: ParaView ``.pvd`` collections (one writer for
+  every series: fibres, contacts, blocks, the scene).
 - :mod:`textile.io.results`: per-step result records in JSON (+ CSV export).
 - :mod:`textile.io.plots`: headless PNG plots of fibres and load curves.
 - :mod:`textile.io.render`: pictures of a sample: fibres as tubes of their
@@ -16,8 +18,9 @@ The plotting and rendering functions are imported lazily so that
 picture is actually made.
 """
 
+from textile.io.pvd import PVDSeries, SceneSeries, write_pvd
 from textile.io.results import ResultsLog
-from textile.io.vtu import PVDSeries, write_fibres_vtu
+from textile.io.vtu import write_fibres_vtu
 
 # name -> module that defines it, imported on first access (PEP 562)
 _LAZY = {"plot_curve": "plots", "plot_fibres": "plots",
@@ -25,7 +28,7 @@ _LAZY = {"plot_curve": "plots", "plot_fibres": "plots",
          "render_cross_section_png": "render", "render_fibres_png": "render",
          "sketch_fibres_png": "render", "fabric_labels": "sample_pictures"}
 
-__all__ = ["PVDSeries", "ResultsLog", "write_fibres_vtu", *_LAZY]
+__all__ = ["PVDSeries", "ResultsLog", "SceneSeries", "write_fibres_vtu", "write_pvd", *_LAZY]
 
 
 def __getattr__(name: str):

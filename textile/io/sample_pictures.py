@@ -15,6 +15,10 @@ Yarn directions: one per yarn id (the values of ``fibre_data["yarn"]``),
 ``"warp"`` (x) or ``"weft"`` (y) as :mod:`textile.fabric` lays them, or a
 3-vector. :func:`fabric_labels` gives both arguments for a
 :class:`~textile.fabric.Fabric`. Lengths in model units; serial (rank 0).
+
+:func:`draw_vtu_pictures` draws them from a written ``fibres_<step>.vtu``
+(its centre lines, ``radius`` and ``yarn`` arrays): what Output does at a
+stage's end, and what can be done after a run for any written step.
 """
 from __future__ import annotations
 
@@ -26,8 +30,8 @@ import numpy as np
 
 from textile.io.render import render_cross_section_png, render_fibres_png
 
-__all__ = ["CutPlane", "cut_planes", "draw_sample_pictures", "fabric_labels",
-           "yarn_axes", "yarn_labels"]
+__all__ = ["CutPlane", "cut_planes", "draw_sample_pictures", "draw_vtu_pictures",
+           "fabric_labels", "read_fibres_vtu", "yarn_axes", "yarn_labels"]
 
 #: :mod:`textile.fabric`'s convention: warp yarns along x, weft yarns along y.
 NAMED_DIRECTIONS = {"warp": (1.0, 0.0, 0.0), "weft": (0.0, 1.0, 0.0)}
@@ -187,3 +191,31 @@ def draw_sample_pictures(directory: str, lines, radii, yarn=None, axes: dict | N
         except Exception as e:
             errors.append(f"{name}: {type(e).__name__}: {e}")
     return drawn, errors
+
+
+def read_fibres_vtu(path: str) -> tuple[list[np.ndarray], np.ndarray, np.ndarray | None]:
+    """(centre lines, radius per fibre, yarn per fibre or None) of a fibres
+    .vtu written by :func:`textile.io.vtu.write_fibres_vtu` with a
+    ``radius`` point array (as :class:`textile.Output` writes them)."""
+    import meshio
+
+    mesh = meshio.read(path)
+    data = mesh.point_data
+    if "fibre_id" not in data or "radius" not in data:
+        raise ValueError(f"{path}: not a fibres file (needs point arrays fibre_id and radius)")
+    fibre = np.asarray(data["fibre_id"])
+    first = np.flatnonzero(np.r_[True, np.diff(fibre) != 0])
+    lines = np.split(np.asarray(mesh.points, dtype=float), first[1:])
+    yarn = np.asarray(data["yarn"])[first] if "yarn" in data else None
+    return lines, np.asarray(data["radius"], dtype=float)[first], yarn
+
+
+def draw_vtu_pictures(vtu: str, directory: str | None = None, axes: dict | None = None,
+                      suffix: str = "", size=(1600, 1000),
+                      unit: str | None = None) -> tuple[dict, list[str]]:
+    """:func:`draw_sample_pictures` of the state in the fibres file ``vtu``
+    (in ``directory``, default the file's); fibres coloured by its ``yarn``
+    array when it has one."""
+    lines, radii, yarn = read_fibres_vtu(vtu)
+    return draw_sample_pictures(os.path.dirname(os.path.abspath(vtu)) if directory is None
+                                else directory, lines, radii, yarn, axes, suffix, size, unit)
