@@ -174,3 +174,28 @@ def test_modules_stay_small():
             "stages.py", "stability_check.py"} <= set(sizes)
     assert all(n < 300 for n in sizes.values()), sizes
     assert not (package.parent / "solver.py").exists()
+
+
+def test_the_solver_api_is_kept():
+    """What textile/, the tests, demos and benchmarks use of the one-class
+    Solver and of the textile.solver module, there after the split."""
+    import textile.solver as module
+    for name in ("Solver", "SolverOptions", "StepRecord", "Attempt", "ConvergenceError",
+                 "StabilityWarning", "DIVERGED_EFFECTS_UNSETTLED", "DIVERGED_NEWTON_CYCLE",
+                 "reason_name", "cycling", "CYCLE_ITERATIONS", "CYCLE_PERIOD",
+                 "CYCLE_TOLERANCE", "max_op", "factor_negative_pivots", "zero_energy_motions",
+                 "critical_modes", "Inertia"):
+        assert hasattr(module, name), name
+    assert textile.Solver is Solver and textile.SolverOptions is SolverOptions
+    fib, model = cantilever()
+    solver = Solver(model, QUIET)
+    for name in ("model", "options", "output", "on_step", "history", "comm", "tolerances",
+                 "prefix", "snes", "linear", "counters", "step_to", "solve", "run",
+                 "run_stage", "position", "previous_state", "resume", "resume_matrix",
+                 "STAGE_OPTIONS", "_counts"):
+        assert hasattr(solver, name), name
+    assert Solver.STAGE_OPTIONS >= {"initial_step", "max_it", "newton", "verbose"}
+    # the SNES can be replaced by a proxy of it (benchmarks/contact_costs.py)
+    snes = solver.snes
+    solver.snes = snes
+    assert solver.newton.snes is snes
