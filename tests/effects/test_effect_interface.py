@@ -164,7 +164,7 @@ def _sources(*patterns):
     return {os.path.relpath(f, ROOT): open(f).read() for f in files}
 
 
-CALLERS = ("model.py", "solver.py", "output*.py", "io/*.py")
+CALLERS = ("model.py", "solver/*.py", "output*.py", "io/*.py")
 
 
 def _code_lines(text):

@@ -29,7 +29,7 @@ import pytest
 from mpi4py import MPI
 
 import textile
-import textile.solver as solver_module
+import textile.solver.stability_check as solver_module  # where the check looks them up
 from textile.effects.fibre_contact import FibreContact
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))

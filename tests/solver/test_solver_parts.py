@@ -1,0 +1,201 @@
+"""The solver's parts (textile/solver/) each on its own: one Newton solve,
+one load-step attempt, the stability check, the step-size rule; and the
+package's modules stay small."""
+from pathlib import Path
+
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+import textile
+from textile.solver import (DIVERGED_EFFECTS_UNSETTLED, DIVERGED_NEWTON_CYCLE,  # noqa: F401
+                            Attempt, ConvergenceError, Solver, SolverOptions,
+                            StabilityWarning, StepRecord, cycling, reason_name)
+from textile.solver.contact_loop import ContactLoop
+from textile.solver.newton import Newton, new_counts
+from textile.solver.stability_check import StabilityCheck
+from textile.solver.stepping import StepControl
+
+E, NU, R, L = 1.0e9, 0.3, 1e-3, 0.2
+EI = E * np.pi * R ** 4 / 4
+QUIET = dict(verbose=False)
+#: Newton iterations of the cantilever's one step (MIP Newton, no predictor)
+CANTILEVER_ITERATIONS = 6
+
+
+def cantilever():
+    """A cantilever under a lateral tip force of moderate rotation."""
+    fib = textile.straight_fibre([0, 0, 0], [L, 0, 0], R, textile.Material(E, NU),
+                                 num_elements=8, section_vector=[0, 1, 0])
+    model = textile.Model(fib, comm=MPI.COMM_SELF)
+    model.clamp(fib, 0)
+    model.add_force(fib, -1, [0, 0, 2.0 * EI / L ** 2])
+    return fib, model
+
+
+def set_up(model, options):
+    """What Solver does to a model before its parts use it."""
+    model.setup()
+    model.newton = options.newton
+    return Newton(model, options)
+
+
+def one_step_with_solver():
+    fib, model = cantilever()
+    solver = Solver(model, dict(initial_step=1.0, max_step=1.0, **QUIET))
+    solver.solve()
+    assert len(solver.history) == 1 and solver.history[0].attempts == 1
+    return solver, model
+
+
+def test_one_newton_solve_alone():
+    """Newton alone, from the reference state at load factor 1, converges
+    as the Solver's one step does: same iterations, residuals, state."""
+    solver, reference = one_step_with_solver()
+    fib, model = cantilever()
+    options = SolverOptions(**QUIET)
+    newton = set_up(model, options)
+    model.domain_error = None
+    for e in model.effects:
+        e.prepare(model)
+    model.start_newton()
+    model.set_linearization_point()
+    model.load_factor = 1.0
+    model.apply_constraints(model.x)
+    result = newton.solve(model.x)
+    step = solver.history[0]
+    assert result.reason > 0, reason_name(result.reason)
+    assert result.iterations == step.newton_iterations
+    assert result.residual_norms == step.residual_norms
+    assert newton.counts["newton_solves"] == 1
+    assert newton.counts["newton_iterations"] == result.iterations
+    assert np.array_equal(model.x.getArray(), reference.x.getArray())
+    assert newton.prefix.startswith("textile") and newton.prefix != solver.prefix
+
+
+def test_newton_iterations_of_the_cantilever():
+    """The known count (a change of the Newton solver shows here first)."""
+    solver, _ = one_step_with_solver()
+    assert solver.history[0].newton_iterations == CANTILEVER_ITERATIONS
+
+
+def test_one_load_step_attempt_alone():
+    """ContactLoop.step_to: one attempt, the model left at the new state;
+    Solver.step_to is the same attempt."""
+    fib, model = cantilever()
+    loop = ContactLoop(set_up(model, SolverOptions(**QUIET)))
+    attempt = loop.step_to(0.5)
+    assert isinstance(attempt, Attempt) and attempt.converged
+    assert attempt.updates == 1 and model.load_factor == 0.5
+    fib2, model2 = cantilever()
+    solver = Solver(model2, QUIET)
+    again = solver.step_to(0.5)
+    assert again == attempt
+    assert np.array_equal(model.x.getArray(), model2.x.getArray())
+
+
+def test_stability_check_alone():
+    """A straight column of round section past its buckling load: two
+    negative eigenvalues (it buckles in either lateral plane), read from the
+    Newton factorization by StabilityCheck alone."""
+    length = 0.5
+    load = np.pi ** 2 * EI / (4 * length ** 2)
+    fib = textile.straight_fibre([0, 0, 0], [length, 0, 0], R, textile.Material(E, NU),
+                                 num_elements=8)
+    model = textile.Model(fib, comm=MPI.COMM_SELF)
+    model.clamp(fib, 0)
+    model.add_force(fib, -1, [-1.3 * load, 0, 0])
+    loop = ContactLoop(set_up(model, SolverOptions(**QUIET)))
+    assert loop.step_to(1.0).converged
+    check = StabilityCheck(loop)
+    assert check.inertia().negative == 2
+    assert check.counts["zero_motion_searches"] == 1
+
+
+def test_step_control_alone():
+    """The cut/grow rule on a scripted sequence of attempt outcomes: the
+    steps Stepping.solve would take, without a model."""
+    o = SolverOptions(initial_step=0.1, max_step=0.25, min_step=0.01, grow=1.5, cut=0.5,
+                      easy_iterations=4, **QUIET)
+    control = StepControl(o)
+    # (converged, Newton iterations) of each attempt, in turn
+    outcomes = iter([(True, 3), (True, 6), (False, 25), (True, 4), (True, 2), (True, 1),
+                     (True, 1), (True, 1)])
+    t, dt, taken = 0.0, control.first(), []
+    while t < 1.0 - 1e-14:
+        step = control.clip(dt, t, 1.0)
+        converged, iterations = next(outcomes)
+        if not converged:
+            dt = control.failed(step)
+            assert not control.gives_up(dt)
+            taken.append(("cut", step))
+            continue
+        t += step
+        dt = control.converged(step, iterations)
+        taken.append(("ok", step))
+    assert [k for k, _ in taken] == ["ok", "ok", "cut", "ok", "ok", "ok", "ok", "ok"]
+    assert [s for _, s in taken] == pytest.approx([0.1, 0.15, 0.15, 0.075, 0.1125, 0.16875,
+                                                   0.25, 1.0 - 0.85625], rel=1e-14)
+    assert StepControl(SolverOptions(initial_step=0.5, max_step=0.5, **QUIET)).first() == 0.5
+    small = StepControl(SolverOptions(min_step=0.01, initial_step=0.015, **QUIET))
+    assert small.gives_up(small.failed(0.015))
+
+
+def test_counters_are_shared_by_the_parts():
+    """The Solver's counters are its parts' (one dict)."""
+    fib, model = cantilever()
+    solver = Solver(model, dict(initial_step=0.5, max_step=0.5, **QUIET))
+    solver.solve()
+    assert solver.newton.counts is solver._counts is solver.stability.counts
+    assert solver.counters["newton_iterations"] == sum(
+        h.newton_iterations for h in solver.history)
+    assert solver.counters["accepted_steps"] == len(solver.history) == 2
+    assert set(new_counts()) <= set(solver.counters)
+
+
+def test_stage_options_reach_every_part():
+    fib, model = cantilever()
+    solver = Solver(model, QUIET)
+    seen = []
+    solver.on_step = lambda s, rec: seen.append(
+        {s.options.max_it, s.newton.options.max_it, s.loop.options.max_it,
+         s.stability.options.max_it})
+    solver.run_stage(textile.Stage("load", solver=dict(max_it=17, initial_step=0.5,
+                                                       max_step=0.5)))
+    assert seen and all(v == {17} for v in seen)
+    assert solver.newton.options.max_it == solver.options.max_it == 25
+
+
+def test_modules_stay_small():
+    """Each part of the solver is read in one sitting."""
+    package = Path(textile.__file__).parent / "solver"
+    sizes = {p.name: len(p.read_text().splitlines()) for p in package.glob("*.py")}
+    assert {"__init__.py", "options.py", "newton.py", "contact_loop.py", "stepping.py",
+            "stages.py", "stability_check.py"} <= set(sizes)
+    assert all(n < 300 for n in sizes.values()), sizes
+    assert not (package.parent / "solver.py").exists()
+
+
+def test_the_solver_api_is_kept():
+    """What textile/, the tests, demos and benchmarks use of the one-class
+    Solver and of the textile.solver module, there after the split."""
+    import textile.solver as module
+    for name in ("Solver", "SolverOptions", "StepRecord", "Attempt", "ConvergenceError",
+                 "StabilityWarning", "DIVERGED_EFFECTS_UNSETTLED", "DIVERGED_NEWTON_CYCLE",
+                 "reason_name", "cycling", "CYCLE_ITERATIONS", "CYCLE_PERIOD",
+                 "CYCLE_TOLERANCE", "max_op", "factor_negative_pivots", "zero_energy_motions",
+                 "critical_modes", "Inertia"):
+        assert hasattr(module, name), name
+    assert textile.Solver is Solver and textile.SolverOptions is SolverOptions
+    fib, model = cantilever()
+    solver = Solver(model, QUIET)
+    for name in ("model", "options", "output", "on_step", "history", "comm", "tolerances",
+                 "prefix", "snes", "linear", "counters", "step_to", "solve", "run",
+                 "run_stage", "position", "previous_state", "resume", "resume_matrix",
+                 "STAGE_OPTIONS", "_counts"):
+        assert hasattr(solver, name), name
+    assert Solver.STAGE_OPTIONS >= {"initial_step", "max_it", "newton", "verbose"}
+    # the SNES can be replaced by a proxy of it (benchmarks/contact_costs.py)
+    snes = solver.snes
+    solver.snes = snes
+    assert solver.newton.snes is snes

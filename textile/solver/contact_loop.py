@@ -1,0 +1,104 @@
+"""One load-step attempt: the effects prepare, the predictor, then Newton
+repeated while an effect updates what Newton held fixed (contact elements,
+normals, penalties: loops 1-2 around Newton's loop 3).
+
+:class:`ContactLoop` takes the model from its last converged state to a
+load factor t, or reports why not (:class:`textile.solver.Attempt`); it
+does not restore a failed attempt nor choose t
+(:mod:`textile.solver.stepping`).
+"""
+from __future__ import annotations
+
+import numpy as np
+from petsc4py import PETSc
+
+from .. import _cpp
+from .newton import Newton
+from .options import DIVERGED_EFFECTS_UNSETTLED, Attempt
+
+
+class ContactLoop:
+    """Load-step attempts with one :class:`Newton` (its model, options and
+    counters)."""
+
+    def __init__(self, newton: Newton):
+        self.newton = newton
+        self.model = newton.model
+        self.comm = newton.comm
+        self.options = newton.options
+
+    def effects_step(self, method: str) -> tuple[bool, str]:
+        """Call ``method`` of every effect (prepare, update); GeometryError
+        on any rank makes the attempt fail. Returns (changed, error)."""
+        m = self.model
+        error, changed = "", False
+        try:
+            results = [getattr(e, method)(m) for e in m.effects]
+            changed = any(bool(r) for r in results)
+        except _cpp.GeometryError as exc:
+            error = str(exc)
+        m.start_newton()  # the tangents of the Newton solve that follows count from 0
+        errors = [e for e in self.comm.allgather(error) if e]
+        return self.comm.allreduce(changed), (errors[0] if errors else "")
+
+    def step_to(self, t: float, predict: bool = True, previous=None) -> Attempt:
+        """One load-step attempt at load factor t from the current state:
+        effects prepare (at the converged state), predictor, then Newton
+        (loop 3) repeated while an effect updates what Newton held fixed
+        (loops 1-2: contact elements, normals, penalties). ``previous``:
+        (load factor, state) of the converged step before the current one,
+        for the secant predictor (None: none)."""
+        m, o = self.model, self.options
+        m.domain_error = None
+        # at the last converged state: history (e.g. friction stick points)
+        # carries over to re-detected elements without the step's increment
+        _, error = self.effects_step("prepare")
+        if error:
+            return Attempt(False, reason=PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN,
+                           message=f"preparing effects: {error}")
+        # the converged state is the linearization point of the predictor
+        m.set_linearization_point()
+        prev = previous
+        t_n = m.load_factor
+        m.load_factor = t
+        if predict and o.predictor != "none" and prev is not None and prev[0] < t_n:
+            t_prev, x_prev = prev
+            plain = m.x.copy()
+            # x += (t - t_n) / (t_n - t_prev) * (x_n - x_prev)
+            m.x.axpy((t - t_n) / (t_n - t_prev), m.x - x_prev)
+            norm = self.newton.residual_norm
+            if o.predictor == "auto" and norm(m.x) > norm(plain):
+                plain.copy(m.x)  # the extrapolation is worse than none
+            plain.destroy()
+        m.apply_constraints(m.x)
+        attempt = Attempt(False)
+        for outer in range(1, o.max_updates + 1):
+            attempt.updates = outer
+            if self.comm.allreduce(m.matrix_stale):
+                # new couplings (contact): a matrix preallocated for them
+                self.newton.set_operators(m.rebuild_matrix())
+            result = self.newton.solve(m.x)
+            attempt.reason = result.reason
+            if result.message:
+                attempt.message = result.message
+            attempt.iterations += result.iterations
+            attempt.residual_norms += result.residual_norms
+            if m.domain_error is not None:
+                # (PETSc may have stopped on the infinite residual first)
+                attempt.reason = PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
+                attempt.message = str(m.domain_error)
+                return attempt
+            if attempt.reason <= 0 or not np.isfinite(m.x.norm()):
+                return attempt
+            changed, error = self.effects_step("update")
+            if error:
+                attempt.reason = PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
+                attempt.message = f"updating effects: {error}"
+                return attempt
+            if not changed:
+                attempt.converged = True
+                return attempt
+        attempt.reason = DIVERGED_EFFECTS_UNSETTLED
+        attempt.message = (f"effects (contact elements, normals, penalties) still changing "
+                           f"after {o.max_updates} Newton solves")
+        return attempt

@@ -1,0 +1,237 @@
+"""One Newton solve: SNES ``newtonls`` over the model's monolithic system,
+its linear solver (:mod:`textile.linear_solver`), the per-group convergence
+test (:mod:`textile.convergence`) and cycle detection.
+
+:class:`Newton` solves the model at its current load factor from the
+current iterate, nothing else: no prediction, no effects' updates, no step
+control (:mod:`textile.solver.contact_loop` and
+:mod:`textile.solver.stepping`).
+"""
+from __future__ import annotations
+
+import itertools
+import weakref
+from dataclasses import dataclass, field
+
+import numpy as np
+from petsc4py import PETSc
+
+from ..convergence import GroupTolerances
+from ..linear_solver import LinearSolver
+from .options import DIVERGED_NEWTON_CYCLE, SolverOptions, say
+
+#: A Newton solve whose residual norm repeats itself with a period of 1 to
+#: CYCLE_PERIOD iterations (each of the last max(CYCLE_ITERATIONS, 2 period)
+#: values within CYCLE_TOLERANCE of the one a period before) is cycling
+#: (stick-slip or contact switches flipping in turn) or stuck: it would not
+#: converge within max_it, so the attempt fails at once and the step is cut.
+#: A residual falling by 5% a period needs 45 periods per decade: none of
+#: that converges anyway.
+CYCLE_ITERATIONS, CYCLE_PERIOD, CYCLE_TOLERANCE = 6, 4, 0.05
+
+
+def cycling(norms: list[float]) -> bool:
+    """Does this Newton residual history (norm per iteration) cycle?"""
+    for period in range(1, CYCLE_PERIOD + 1):
+        n = max(CYCLE_ITERATIONS, 2 * period)
+        if len(norms) < n + period + 2:  # the first two iterations never count
+            continue
+        h = norms[-n - period:]
+        if all(abs(a - b) <= CYCLE_TOLERANCE * max(a, b)
+               for a, b in zip(h[period:], h[:-period])):
+            return True
+    return False
+
+
+def _forget_options(prefix: str) -> None:
+    """Remove every option of the PETSc database that starts with prefix."""
+    opts = PETSc.Options()
+    for name in list(opts.getAll()):
+        if name.startswith(prefix):
+            opts.delValue(name)
+
+
+#: numbers the PETSc option prefixes of the solvers (textile1_, textile2_, ...)
+_prefixes = itertools.count(1)
+
+
+def new_counts() -> dict:
+    """The counters a solver keeps itself (the rest: PETSc's event log)."""
+    return dict(newton_solves=0, newton_iterations=0, failed_attempts=0,
+                accepted_steps=0, residual_evaluations=0, jacobian_evaluations=0,
+                linear_solve_retries=0, eigen_solves=0, eigen_solve_seconds=0.0,
+                zero_motion_searches=0, zero_motion_seconds=0.0)
+
+
+@dataclass
+class NewtonResult:
+    """What one Newton solve did (its linear-solve retries included)."""
+
+    reason: int = 0
+    iterations: int = 0
+    residual_norms: list = field(default_factory=list)
+    message: str = ""
+
+
+class Newton:
+    """One SNES with the model's residual, tangent and convergence test.
+
+    ``model`` must be set up (``model.setup()``, ``model.newton``);
+    ``options`` is a :class:`SolverOptions` (its Newton, linear-solver and
+    PETSc fields; ``max_it``, ``stol`` and ``verbose`` are read at every
+    solve: a stage may change them). ``counts``: the dict of counters to
+    add to (:func:`new_counts` by default)."""
+
+    def __init__(self, model, options: SolverOptions, counts: dict | None = None):
+        self.model = model
+        self.options = options
+        self.comm = model.comm
+        o = options
+        self.tolerances = GroupTolerances(o.rtol, o.atol, o.floor_factor)
+        groups = model.residual_groups
+        self.scales = np.array([groups.scale[n] for n in groups.names])
+        self.prefix = f"textile{next(_prefixes)}_"
+        # PETSc's options database is global and bounded (error 55 once
+        # full): a solver's prefixed options go with it
+        weakref.finalize(self, _forget_options, self.prefix)
+        self.counts = counts if counts is not None else new_counts()
+        #: was the last factorization the exact tangent of a state close to
+        #: the last iterate? (see converged; textile.solver.stability_check)
+        self.factor_near = False
+        self.cycled = False
+        self.snes = self._create_snes()  # starts PETSc's event log
+
+    def _create_snes(self) -> PETSc.SNES:
+        o, m = self.options, self.model
+        snes = PETSc.SNES().create(self.comm)
+        snes.setOptionsPrefix(self.prefix)
+        snes.setType("newtonls")
+        snes.setFunction(self._residual, m.b)
+        symmetric = all(e.symmetric_tangent for e in m.effects)
+        self.linear = LinearSolver(snes, o, self.prefix, symmetric, self.comm)
+        snes.setJacobian(self._jacobian, *self.linear.operators(m.A))
+        snes.setTolerances(max_it=o.max_it)
+        snes.setConvergenceTest(self._converged)
+        snes.setConvergenceHistory(reset=True)
+        opts = PETSc.Options()
+        # petsc4py 3.18 has no SNESLineSearch binding: set it as an option
+        opts[self.prefix + "snes_linesearch_type"] = o.line_search
+        # the first Newton iterate of a finite rotation can raise the residual
+        # norm by orders of magnitude (section vectors stretch to first
+        # order): no divergence-by-growth test, failures are caught by max_it
+        opts[self.prefix + "snes_divergence_tolerance"] = -1
+        for k, v in o.petsc_options.items():
+            opts[self.prefix + k.lstrip("-")] = v
+        snes.setFromOptions()
+        # generic command-line options (-snes_monitor, ...) without our prefix
+        snes.setOptionsPrefix(None)
+        snes.setFromOptions()
+        snes.setOptionsPrefix(self.prefix)
+        return snes
+
+    def _residual(self, snes, x, b) -> None:
+        self.counts["residual_evaluations"] += 1
+        self.model.residual(snes, x, b)
+
+    def _jacobian(self, snes, x, J, P) -> None:
+        self.counts["jacobian_evaluations"] += 1
+        self.model.jacobian(snes, x, J, P)
+        self.linear.refresh(snes)
+
+    def _converged(self, snes, it, norms):
+        """Per-group residual test (textile.convergence) or a negligible
+        Newton update; domain errors and non-finite residuals stop SNES."""
+        m, o = self.model, self.options
+        xnorm, ynorm, fnorm = norms
+        if m.domain_error is not None:
+            return PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
+        if not np.isfinite(fnorm):
+            return PETSc.SNES.ConvergedReason.DIVERGED_FNORM_NAN
+        g = m.residual_norms
+        if it == 0:
+            # the size of the unknowns as the kernels see them (positions):
+            # the scale of a negligible Newton update and of the constraint rows
+            self._q_norm = m.x.norm() + m.reference_norm()
+        settled = it > 0 and ynorm <= self.tolerances.floor_update * self._q_norm
+        # was the last factorization the exact tangent of a state close to
+        # this one? (the inertia of the stability check is read from it; a
+        # MIP tangent is exact only for a small extrapolation)
+        self.factor_near = (it > 0 and ynorm <= 1e-6 * self._q_norm
+                            and m.last_tangent_update <= 1e-6 * self._q_norm)
+        reference = m.force_reference.copy()
+        reference[m.residual_groups.names.index("constraints")] = self._q_norm
+        floors = lambda: m.floors(snes.getSolution())  # noqa: E731 (collective, on demand)
+        if np.all(self.tolerances.converged(g, reference, floors, self.scales,
+                                            settled)):
+            return PETSc.SNES.ConvergedReason.CONVERGED_FNORM_ABS
+        if it == 0:
+            self._f0 = fnorm
+            self._fnorms = []
+        self._fnorms.append(fnorm)
+        # a negligible update converges, unless the iterate blew up (a tiny
+        # step relative to a huge solution must not accept |r| = 1e29)
+        if it > 0 and ynorm <= o.stol * xnorm and fnorm <= self._f0:
+            return PETSc.SNES.ConvergedReason.CONVERGED_SNORM_RELATIVE
+        if it >= o.max_it:
+            return PETSc.SNES.ConvergedReason.DIVERGED_MAX_IT
+        if cycling(self._fnorms):
+            self.cycled = True  # solve names it (SNES knows no such reason)
+            return PETSc.SNES.ConvergedReason.DIVERGED_DTOL
+        return PETSc.SNES.ConvergedReason.CONVERGED_ITERATING
+
+    # -- one solve -----------------------------------------------------------------
+    def set_operators(self, A: PETSc.Mat) -> None:
+        """Solve with the model's new system matrix A (new couplings, a new
+        constrained set)."""
+        self.snes.setJacobian(self._jacobian, *self.linear.operators(A))
+
+    def solve(self, x: PETSc.Vec) -> NewtonResult:
+        """Newton from x (changed in place) at the model's load factor; a
+        failed linear solve is retried with more MUMPS workspace or, after
+        GMRES on a reused or approximate factorization, a fresh one."""
+        m, o = self.model, self.options
+        result = NewtonResult()
+        for retry in range(o.max_it):
+            self.counts["newton_solves"] += 1
+            self.cycled = False
+            self.snes.solve(None, x)
+            result.reason = self.snes.getConvergedReason()
+            if self.cycled:
+                result.reason = DIVERGED_NEWTON_CYCLE
+                result.message = ("the residual repeats itself (contact or "
+                                  "stick-slip switches flipping, or stuck)")
+            its = self.snes.getIterationNumber()
+            self.counts["newton_iterations"] += its
+            result.iterations += its
+            result.residual_norms += [float(r) for r in
+                                      self.snes.getConvergenceHistory()[0][: its + 1]]
+            if not (result.reason == PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE
+                    and m.domain_error is None):
+                break
+            if self.linear.grow_workspace(self.snes):
+                # MUMPS out of its workspace estimate: again with more
+                self.counts["linear_solve_retries"] += 1
+                say(o, self.comm, f"  MUMPS's workspace estimate was too small: relaxed to "
+                                  f"{self.linear.relaxation()}%, solving again")
+                continue
+            if not self.linear.krylov:
+                break
+            # GMRES with a reused or approximate factorization failed:
+            # go on from this iterate with a fresh, exact one
+            self.counts["linear_solve_retries"] += 1
+            self.linear.force_refactorization()
+        return result
+
+    def residual_norm(self, x: PETSc.Vec) -> float:
+        """Norm of the residual at x with the constraints of the current
+        load factor applied (inf outside the domain); x is not changed."""
+        m = self.model
+        y = x.copy()
+        m.apply_constraints(y)
+        r = m.b.duplicate()
+        self._residual(None, y, r)
+        m.domain_error = None
+        norm = r.norm()
+        y.destroy()
+        r.destroy()
+        return norm if np.isfinite(norm) else np.inf

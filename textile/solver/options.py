@@ -1,0 +1,237 @@
+"""What a solver run is told and what it reports: :class:`SolverOptions`,
+the outcome of one load-step attempt (:class:`Attempt`), the record of a
+converged step (:class:`StepRecord`), the reasons a step fails (SNES's own
+and the solver's, :func:`reason_name`) and the solver's errors."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from petsc4py import PETSc
+
+from ..options import Options
+
+
+class ConvergenceError(RuntimeError):
+    """A load step could not be completed even with the smallest step."""
+
+
+class StabilityWarning(UserWarning):
+    """A converged equilibrium is unstable (negative eigenvalues)."""
+
+
+#: Reasons of a failed attempt that are not SNES's own.
+DIVERGED_EFFECTS_UNSETTLED = -200
+DIVERGED_NEWTON_CYCLE = -201
+_OWN_REASONS = {DIVERGED_EFFECTS_UNSETTLED: "DIVERGED_EFFECTS_UNSETTLED",
+                DIVERGED_NEWTON_CYCLE: "DIVERGED_NEWTON_CYCLE"}
+
+
+def reason_name(reason: int) -> str:
+    """Name of an SNES converged reason (or of the solver's own reasons)."""
+    if reason in _OWN_REASONS:
+        return _OWN_REASONS[reason]
+    for name in dir(PETSc.SNES.ConvergedReason):
+        if name.isupper() and name != "ITERATING" \
+                and getattr(PETSc.SNES.ConvergedReason, name) == reason:
+            return name
+    return f"reason {reason}"
+
+
+@dataclass
+class SolverOptions(Options):
+    """Options of :class:`Solver` (unknown names raise ValueError).
+
+    Attributes
+    ----------
+    initial_step, min_step, max_step:
+        Load-factor increments (0 < min <= initial <= max <= 1).
+    grow, cut:
+        Step multiplier after an easy step (<= easy_iterations Newton
+        iterations) and after a failed one.
+    easy_iterations:
+        Newton iterations at or below which a step counts as easy.
+    rtol, atol, floor_factor, stol, max_it:
+        Newton convergence, tested per group of unknowns (fibre positions,
+        fibre section vectors, each other field, constrained rows; see
+        :mod:`textile.convergence`): a group has converged when its residual
+        norm is below rtol times its value at the start of the Newton solve,
+        or below floor_factor * eps * |(|K||q|)_group| (its round-off floor),
+        or below atol times its force scale (the largest fibre E*A; times the
+        largest radius for section vectors). Or: the Newton update is below
+        stol times the solution (relative). max_it: Newton iterations per
+        solve; a solve whose residual repeats itself (``cycling``) stops
+        before, as DIVERGED_NEWTON_CYCLE.
+    line_search:
+        SNES line search; "basic" (full Newton steps, default): the residual
+        norm mixes forces on positions and on section vectors, which misleads
+        norm-decrease searches such as "bt" on these beams; failed steps are
+        cut instead.
+    max_updates:
+        Newton solves per step while effects update what Newton holds fixed
+        (contact elements, normals, penalties); a step still changing after
+        that many is cut.
+    newton:
+        "mip" (default; mixed integration point Newton: the beams' geometric
+        stiffness uses the stress extrapolated linearly from the previous
+        iterate, which keeps Newton from overshooting on large rotations) or
+        "standard" (the exact tangent every iteration). The converged answer
+        is the same (iteration counts: benchmarks/README.md, "Solver
+        options").
+    predictor:
+        How a step starts: "secant" extrapolates the last converged
+        increment, which helps on smooth paths and overshoots large
+        rotations and contacts coming on; "none" starts from the last
+        converged state with the new loads and prescribed values; "auto"
+        (default) evaluates both starts and keeps the one with the smaller
+        residual (two residual evaluations a step). Iteration counts:
+        benchmarks/README.md, "Solver options".
+    linear_solver:
+        "mumps" (default), "superlu_dist" or "petsc" (serial).
+    factorization:
+        "auto" (LDL^T when every effect's tangent is symmetric, else LU),
+        "lu" or "cholesky" (LDL^T, symmetric indefinite).
+    reuse_factorization:
+        1: factorize the tangent every Newton iteration. n > 1: keep a
+        factorization for up to n iterations as the preconditioner of GMRES
+        on the exact tangent (see :mod:`textile.linear_solver`).
+    krylov_rtol, krylov_max_it:
+        GMRES tolerance and iteration limit when a factorization is reused
+        or approximate.
+    low_rank_tolerance:
+        > 0: MUMPS block low-rank factorization with this compression
+        tolerance (an approximate factorization preconditioning GMRES).
+    petsc_options:
+        Extra PETSc options for this solver's SNES/KSP/PC, e.g.
+        {"snes_linesearch_type": "basic"} (applied with the solver's prefix);
+        command-line -snes_*, -ksp_*, -pc_* options also apply.
+    stability_check:
+        "auto": after every converged step, count the negative eigenvalues of
+        the tangent from the Newton solver's LDL^T factorization (its
+        negative pivots, less those of zero-energy motions: a fibre's
+        sections free to spin, ...; see :mod:`textile.stability`); checked
+        when the scene's tangent is symmetric, not otherwise. Recorded per
+        step (``StepRecord.stability``, results.json) with a warning the
+        first time stability is lost. "off": no check.
+    branch_switching:
+        When a converged step is found unstable (more negative eigenvalues
+        than the step before: a bifurcation was passed), perturb it along the
+        critical modes (SLEPc) and solve again at the same load, so that
+        Newton settles on the stable branch (e.g. the buckled column instead
+        of the straight one). Tried with amplitudes ``branch_amplitudes``
+        (fractions of the longest fibre) and both signs. On by default: an
+        unstable equilibrium is a wrong answer for a fabric; False keeps the
+        unstable path (recorded and warned about).
+    verbose:
+        Print one progress line per step on rank 0.
+    """
+
+    initial_step: float = 0.1
+    min_step: float = 1e-4
+    max_step: float = 0.25
+    grow: float = 1.5
+    cut: float = 0.5
+    easy_iterations: int = 4
+    rtol: float = 1e-10
+    atol: float = 1e-13
+    floor_factor: float = 10.0
+    stol: float = 1e-10
+    max_it: int = 25
+    line_search: str = "basic"
+    newton: str = "mip"
+    predictor: str = "auto"
+    max_updates: int = 20
+    linear_solver: str = "mumps"
+    factorization: str = "auto"
+    reuse_factorization: int = 1
+    krylov_rtol: float = 1e-9
+    krylov_max_it: int = 40
+    low_rank_tolerance: float = 0.0
+    petsc_options: dict = field(default_factory=dict)
+    stability_check: str = "auto"
+    branch_switching: bool = True
+    branch_amplitudes: tuple = (0.01, 0.05, 0.2, 0.5, 1.0)
+    verbose: bool = True
+
+    kind = "solver"
+
+    def __post_init__(self):
+        self.require_positive("initial_step", "min_step", "max_step", "grow", "cut", "rtol",
+                              "atol", "floor_factor", "stol", "krylov_rtol")
+        if not self.min_step <= self.initial_step <= self.max_step <= 1.0:
+            raise ValueError("SolverOptions: need 0 < min_step <= initial_step <= max_step <= 1")
+        if not 0 < self.cut < 1 or self.grow < 1:
+            raise ValueError("SolverOptions: need 0 < cut < 1 and grow >= 1")
+        choices = dict(newton=("standard", "mip"), predictor=("auto", "secant", "none"),
+                       linear_solver=("mumps", "superlu_dist", "petsc"),
+                       factorization=("auto", "lu", "cholesky"),
+                       stability_check=("auto", "off"))
+        for name, allowed in choices.items():
+            if getattr(self, name) not in allowed:
+                raise ValueError(f"SolverOptions.{name} must be one of {allowed}, "
+                                 f"got {getattr(self, name)!r}")
+        for name in ("max_it", "max_updates", "reuse_factorization", "krylov_max_it",
+                     "easy_iterations"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+                raise ValueError(f"SolverOptions.{name} must be a positive integer, got {v!r}")
+        for name in ("branch_switching", "verbose"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"SolverOptions.{name} must be True or False, "
+                                 f"got {getattr(self, name)!r}")
+        if not (isinstance(self.low_rank_tolerance, (int, float))
+                and 0 <= self.low_rank_tolerance < 1):
+            raise ValueError("SolverOptions.low_rank_tolerance must be in [0, 1)")
+
+
+@dataclass
+class StepRecord:
+    """Statistics of one converged load step."""
+
+    step: int
+    load_factor: float
+    newton_iterations: int
+    attempts: int
+    residual_norms: list
+    wall_time: float
+    converged_reason: int
+    energy: float
+    updates: int = 1
+    effects: dict = field(default_factory=dict)
+    #: per group: residual norm at convergence (see textile.convergence)
+    residuals: dict = field(default_factory=dict)
+    #: negative eigenvalues of the tangent (None: not checked), the
+    #: factorization's negative pivots and the zero-energy motions told
+    #: apart from them (None: not searched, no negative pivot), and whether
+    #: the step was moved to another branch (textile.stability)
+    stability: dict = field(default_factory=dict)
+    #: the stage this step belongs to, and the run's time (stage number +
+    #: the stage's load factor: continuous over stages)
+    stage: str = "load"
+    time: float = 0.0
+
+    @property
+    def reason(self) -> str:
+        """The SNES converged reason in words."""
+        return reason_name(self.converged_reason)
+
+
+@dataclass
+class Attempt:
+    """What one attempt at a load step did."""
+
+    converged: bool
+    iterations: int = 0
+    residual_norms: list = field(default_factory=list)
+    reason: int = 0
+    updates: int = 0
+    message: str = ""
+
+    def describe(self) -> str:
+        text = f"{reason_name(self.reason)} after {self.iterations} Newton iterations"
+        return f"{text}: {self.message}" if self.message else text
+
+
+def say(options: SolverOptions, comm, msg: str) -> None:
+    """One progress line on rank 0 when ``options.verbose``."""
+    if options.verbose and comm.rank == 0:
+        print(msg, flush=True)

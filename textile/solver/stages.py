@@ -1,0 +1,153 @@
+"""Stages and saved states: stages run one after another, each from load
+factor 0 to 1 from the state the previous one left, with its own solver
+options (:data:`STAGE_OPTIONS`) and the scene's changes of
+:class:`textile.loading.Stage`; a run saved within a stage
+(:mod:`textile.io.state_file`) goes on as the saving run would have.
+"""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+from petsc4py import PETSc
+
+from ..loading import Stage
+from .options import StepRecord
+from .stepping import Stepping
+
+#: options a stage may change (the linear solver is set once)
+STAGE_OPTIONS = {"initial_step", "min_step", "max_step", "grow", "cut", "easy_iterations",
+                 "max_it", "max_updates", "newton", "predictor", "branch_switching",
+                 "branch_amplitudes", "verbose"}
+
+
+class Stages(Stepping):
+    """:class:`Stepping` over a sequence of stages, resumable."""
+
+    STAGE_OPTIONS = STAGE_OPTIONS
+
+    def run(self, stages) -> list[StepRecord]:
+        """Run a sequence of :class:`textile.loading.Stage`, each from load
+        factor 0 to 1, continuing from the state the previous one left."""
+        stages = list(stages)
+        for k, stage in enumerate(stages):
+            if self.owner.output is not None:  # pictures of the final state only
+                self.owner.output.hold_pictures = k < len(stages) - 1
+            self.run_stage(stage)
+        return self.history
+
+    def run_stage(self, stage: Stage, t_end: float = 1.0) -> list[StepRecord]:
+        """Start ``stage`` where the current one ended and solve it to its
+        load factor ``t_end`` (default 1, its end; :meth:`solve` goes on
+        from there, with the solver's own options). The current stage must
+        be complete (load factor 1), unless nothing has been solved yet."""
+        if not isinstance(stage, Stage):
+            raise TypeError(f"expected a textile.Stage, got {type(stage).__name__}")
+        m = self.model
+        unknown = set(stage.solver) - self.STAGE_OPTIONS
+        if unknown:
+            raise ValueError(f"Stage {stage.name!r}: solver options {sorted(unknown)} cannot "
+                             f"change between stages; allowed: {sorted(self.STAGE_OPTIONS)}")
+        # combined with the run's options before anything changes: a stage
+        # whose step sizes conflict with the run's is refused, not left begun
+        options = dataclasses.replace(self.base_options, **stage.solver)
+        if self.stage_started:
+            if m.load_factor < 1.0 - 1e-14:
+                if self.resuming is not None and stage.name == self.stage.name:
+                    return self.resume_stage(stage)
+                raise RuntimeError(f"stage {self.stage.name!r} stopped at load factor "
+                                   f"{m.load_factor:.6g}: finish it (run_stage with that "
+                                   f"stage) before starting {stage.name!r}")
+            m.finish_stage()
+            self.stage_index += 1
+        self.stage = stage
+        if m.begin_stage(stage):
+            # the prescribed set changed: a new matrix for the new rows
+            self.newton.set_operators(m.A)
+        self.options = options
+        self.previous = None  # no secant predictor across stages
+        self.log(f"stage {self.stage_index}: {stage.name}")
+        try:
+            return self.solve(t_end)
+        finally:
+            self.options = self.base_options
+
+    def resume_stage(self, stage: Stage) -> list[StepRecord]:
+        """Go on with the stage a saved state stopped in (see resume): its
+        handles again (the callables of s are not saved), not its effect
+        options (the effects saved theirs), its solver options."""
+        m = self.model
+        before = [s.snapshot() for s in m.schedules()]
+        stage.apply(effects=False)
+        try:
+            self.check_following(self.resuming["following"], stage.name)
+        except ValueError:
+            for s, snap in zip(m.schedules(), before):
+                s.restore(snap)
+            raise
+        self.stage = stage
+        if m.update_constraints():   # the saved releases again: the same set, as a rule
+            self.newton.set_operators(m.A)
+        self.options = dataclasses.replace(self.base_options, **stage.solver)
+        self.log(f"stage {self.stage_index}: {stage.name} resumed at s={m.load_factor:.6g}")
+        try:
+            return self.solve(1.0)
+        finally:
+            self.options = self.base_options
+
+    # -- saved states (textile.io.state_file) -------------------------------------
+    def position(self) -> dict:
+        """Where the run stands, for a saved state: the stage (name, index),
+        the run's time, the steps converged so far, the step size the next
+        step takes (0 once the stage is complete), the load factor of the
+        secant predictor's earlier state (-1: none) and the negative
+        eigenvalues at the last step; stage_started is 0 before any solve
+        (the next stage starts from the saved state)."""
+        m = self.model
+        within = self.stage_started and m.load_factor < 1.0 - 1e-14
+        return dict(stage=self.stage.name, stage_index=self.stage_index,
+                    stage_started=int(self.stage_started),
+                    time=self.stage_index + m.load_factor,
+                    steps=self.steps_before + len(self.history),
+                    next_step=float(self.next_step or 0.0) if within else 0.0,
+                    previous_load_factor=float(self.previous[0])
+                    if within and self.previous is not None else -1.0,
+                    negative_eigenvalues=self.stability.negative)
+
+    def previous_state(self) -> PETSc.Vec | None:
+        """The secant predictor's earlier state (see position), or None."""
+        m = self.model
+        within = self.stage_started and m.load_factor < 1.0 - 1e-14
+        return self.previous[1] if within and self.previous is not None else None
+
+    def resume(self, position: dict, previous: PETSc.Vec | None,
+               following: list[np.ndarray], matrix_changed: bool = False) -> None:
+        """Continue from a saved state (:func:`textile.load_state`, which has
+        set the model): ``position`` as :meth:`position` gave it,
+        ``previous`` the predictor's earlier state, ``following`` per
+        schedule of the model the components that followed a callable of s
+        when saved. A state saved within a stage goes on in it with the
+        saved step size and predictor, as the saving run would have:
+        :meth:`run_stage` with that stage (or :meth:`solve` for a scene's
+        first, implicit stage). ``matrix_changed``: loading changed the
+        constrained set, so the model has a new system matrix."""
+        m = self.model
+        if matrix_changed:
+            self.resume_matrix()
+        self.stage = Stage(str(position["stage"]))
+        self.stage_index = int(position["stage_index"])
+        self.stage_started = bool(position.get("stage_started", True))
+        self.steps_before = int(position.get("steps", 0))
+        self.stability.negative = int(position.get("negative_eigenvalues", 0))
+        self.previous = None
+        self.resuming = None
+        if self.stage_started and m.load_factor < 1.0 - 1e-14:
+            if previous is not None:
+                self.previous = (float(position["previous_load_factor"]), previous)
+            step = float(position.get("next_step", 0.0))
+            self.resuming = dict(next_step=step if step > 0 else None, following=following)
+
+    def resume_matrix(self) -> None:
+        """The model has a new system matrix (a loaded state changed the
+        constrained set): solve with it."""
+        self.newton.set_operators(self.model.A)
