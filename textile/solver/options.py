@@ -8,7 +8,10 @@ from dataclasses import dataclass, field
 
 from petsc4py import PETSc
 
+from ..log import get_logger
 from ..options import Options
+
+_LOG = get_logger("textile.solver")
 
 
 class ConvergenceError(RuntimeError):
@@ -232,6 +235,7 @@ class Attempt:
 
 
 def say(options: SolverOptions, comm, msg: str) -> None:
-    """One progress line on rank 0 when ``options.verbose``."""
+    """One progress line (the ``textile.solver`` logger, INFO) from the
+    solver's rank 0 when ``options.verbose``."""
     if options.verbose and comm.rank == 0:
-        print(msg, flush=True)
+        _LOG.info(msg)
