@@ -1,4 +1,5 @@
 #include "beam_assembler.h"
+#include "../node_unknowns.h"
 #include "../geometry_error.h"
 #include "ordered_pipeline.h"
 #include "petsc_insert.h"
@@ -17,8 +18,8 @@ void BeamAssembler::gather(std::size_t e, std::span<const T> values, std::span<T
   for (int a = 0; a < nn; ++a)
   {
     const std::size_t node = _conn[e * nn + a];
-    for (int k = 0; k < beam::dofs_per_node; ++k)
-      out[9 * a + k] = values[9 * node + k];
+    for (int k = 0; k < dofs_per_node; ++k)
+      out[dofs_per_node * a + k] = values[dofs_per_node * node + k];
   }
 }
 
@@ -29,8 +30,8 @@ void BeamAssembler::current(std::size_t e, std::span<const double> u,
   for (int a = 0; a < nn; ++a)
   {
     const std::size_t node = _conn[e * nn + a];
-    for (int k = 0; k < beam::dofs_per_node; ++k)
-      xe[9 * a + k] = _X[9 * node + k] + u[9 * node + k];
+    for (int k = 0; k < dofs_per_node; ++k)
+      xe[dofs_per_node * a + k] = _X[dofs_per_node * node + k] + u[dofs_per_node * node + k];
   }
 }
 
@@ -50,9 +51,9 @@ BeamAssembler::BeamAssembler(beam::ElementRule rule, std::vector<std::int32_t> c
     throw std::invalid_argument("BeamAssembler: connectivity size != num_elements x num_nodes");
   if (_materials.size() != _sections.size())
     throw std::invalid_argument("BeamAssembler: one section per material group expected");
-  if (_X.size() % beam::dofs_per_node != 0)
+  if (_X.size() % dofs_per_node != 0)
     throw std::invalid_argument("BeamAssembler: reference data must hold 9 values per node");
-  const std::int32_t num_local_nodes = _X.size() / beam::dofs_per_node;
+  const std::int32_t num_local_nodes = _X.size() / dofs_per_node;
   for (auto g : _group)
     if (g < 0 or g >= static_cast<std::int32_t>(_materials.size()))
       throw std::invalid_argument("BeamAssembler: element group out of range");
@@ -67,7 +68,7 @@ BeamAssembler::BeamAssembler(beam::ElementRule rule, std::vector<std::int32_t> c
   if (_number.size() != _group.size())
     throw std::invalid_argument("BeamAssembler: one element number per element expected");
 
-  std::vector<double> Xe(beam::dofs_per_node * nn);
+  std::vector<double> Xe(dofs_per_node * nn);
   for (std::size_t e = 0; e < _group.size(); ++e)
   {
     _ref_offset.push_back(_ref.size());
@@ -129,7 +130,7 @@ double BeamAssembler::assemble_vector(std::span<const double> u, std::span<doubl
 {
   if (u.size() != _X.size() or b.size() != _X.size())
     throw std::invalid_argument("BeamAssembler::assemble_vector: wrong vector size");
-  const std::size_t nn = _rule.num_nodes, nd = 9 * nn, ne = _group.size();
+  const std::size_t nn = _rule.num_nodes, nd = dofs_per_node * nn, ne = _group.size();
   // chunks of element forces computed on the threads, added to b (and the
   // energy summed) in element order by this thread: the result does not
   // depend on the number of threads
@@ -164,8 +165,8 @@ double BeamAssembler::assemble_vector(std::span<const double> u, std::span<doubl
           for (std::size_t a = 0; a < nn; ++a)
           {
             const std::size_t node = _conn[e * nn + a];
-            for (int k = 0; k < 9; ++k)
-              b[9 * node + k] += re[i * nd + 9 * a + k];
+            for (int k = 0; k < dofs_per_node; ++k)
+              b[dofs_per_node * node + k] += re[i * nd + dofs_per_node * a + k];
           }
         }
       });
@@ -179,7 +180,7 @@ void BeamAssembler::assemble_matrix(Mat A, std::span<const double> u,
   if (u.size() != _X.size() or dofs.size() != _X.size()
       or (!du.empty() and du.size() != _X.size()))
     throw std::invalid_argument("BeamAssembler::assemble_matrix: wrong array size");
-  const int nn = _rule.num_nodes, nd = 9 * nn;
+  const int nn = _rule.num_nodes, nd = dofs_per_node * nn;
   std::vector<std::int32_t> idx(nd * _group.size());
   for (std::size_t e = 0; e < _group.size(); ++e)
     gather<std::int32_t>(e, dofs, std::span(idx).subspan(e * nd, nd));
@@ -205,7 +206,7 @@ std::vector<double> BeamAssembler::fields(std::span<const double> u) const
 {
   if (u.size() != _X.size())
     throw std::invalid_argument("BeamAssembler::fields: wrong vector size");
-  const int nd = 9 * _rule.num_nodes;
+  const int nd = dofs_per_node * _rule.num_nodes;
   std::vector<double> xe(nd), out(12 * _group.size());
   for (std::size_t e = 0; e < _group.size(); ++e)
   {

@@ -1,4 +1,5 @@
 #include "beam_element.h"
+#include "../node_unknowns.h"
 #include "../geometry_error.h"
 #include "shape_functions.h"
 
@@ -230,7 +231,7 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
                 std::span<double> r, std::span<double> K, std::span<const double> dx,
                 ElementFields* fields)
 {
-  constexpr int ndof = 9 * N;
+  constexpr int ndof = dofs_per_node * N;
   using DofMat = Eigen::Matrix<double, ndof, ndof>;
 
   const Eigen::Map<const Eigen::Matrix<double, 3, 3 * N>> q(x.data());
@@ -421,7 +422,7 @@ void check_sizes(const ElementRule& rule, const SectionQuadrature& section, std:
     throw std::invalid_argument("beam element: num_nodes must be 2 or 3");
   if (rule.axial.points.empty())
     throw std::invalid_argument("beam element: empty axial quadrature");
-  const std::size_t n = 9 * rule.num_nodes;
+  const std::size_t n = dofs_per_node * rule.num_nodes;
   if (x.size() != n or (!r.empty() and r.size() != n) or (!K.empty() and K.size() != n * n)
       or (!dx.empty() and dx.size() != n) or num_ref != num_points(rule, section))
     throw std::invalid_argument("beam element: wrong local array size");
@@ -433,7 +434,7 @@ std::vector<ReferencePoint> reference_of(const ElementRule& rule, const SectionQ
 {
   if (rule.num_nodes != 2 and rule.num_nodes != 3)
     throw std::invalid_argument("beam element: num_nodes must be 2 or 3");
-  if (X.size() != static_cast<std::size_t>(9 * rule.num_nodes))
+  if (X.size() != static_cast<std::size_t>(dofs_per_node * rule.num_nodes))
     throw std::invalid_argument("beam element: wrong local array size");
   std::vector<ReferencePoint> ref(num_points(rule, section));
   reference_points(rule, section, X, ref);

@@ -2,12 +2,10 @@
 #pragma once
 
 #include "quadrature.h"
+#include "../node_unknowns.h"
 
 namespace textile::beam
 {
-
-/// Unknowns per node: centroid x0, section vectors g1, g2.
-constexpr int dofs_per_node = 9;
 
 /// Integration choices for one element type.
 struct ElementRule

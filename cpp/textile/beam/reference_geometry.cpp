@@ -1,4 +1,5 @@
 #include "reference_geometry.h"
+#include "../node_unknowns.h"
 #include "shape_functions.h"
 
 #include <array>
@@ -23,8 +24,8 @@ void reference_points(const ElementRule& rule, const SectionQuadrature& section,
          dG2 = Vec3::Zero();
     for (int a = 0; a < nn; ++a)
     {
-      const Eigen::Map<const Vec3> X0a(X.data() + 9 * a), G1a(X.data() + 9 * a + 3),
-          G2a(X.data() + 9 * a + 6);
+      const double* node = X.data() + dofs_per_node * a;
+      const Eigen::Map<const Vec3> X0a(node), G1a(node + 3), G2a(node + 6);
       dX0 += dn[a] * X0a;
       G1 += n[a] * G1a;
       G2 += n[a] * G2a;

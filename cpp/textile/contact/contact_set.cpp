@@ -1,4 +1,5 @@
 #include "contact_set.h"
+#include "../node_unknowns.h"
 #include "../assembly/petsc_error.h"
 #include "regularized_penalty.h"
 #include "../geometry_error.h"
@@ -15,7 +16,6 @@ namespace
 using assembly::check;
 using Clock = std::chrono::steady_clock;
 
-constexpr int dofs_per_node = 9;
 constexpr int max_element_dofs = max_patch_nodes * dofs_per_node; // a side's patch
 constexpr int max_pair_dofs = 2 * max_element_dofs;
 

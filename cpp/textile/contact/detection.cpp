@@ -1,4 +1,5 @@
 #include "detection.h"
+#include "../node_unknowns.h"
 
 #include <algorithm>
 #include <cmath>
@@ -163,11 +164,11 @@ ContactElementState make_element(const Centrelines& c, const ContactPoint& point
   // the stick point that reproduces the carried elastic slip
   std::vector<double> xi, xj;
   for (int a = 0; a < e.particle_i.patch_nodes(); ++a)
-    for (int k = 0; k < 9; ++k)
-      xi.push_back(q[9 * e.nodes_i[a] + k]);
+    for (int k = 0; k < dofs_per_node; ++k)
+      xi.push_back(q[dofs_per_node * e.nodes_i[a] + k]);
   for (int a = 0; a < e.particle_j.patch_nodes(); ++a)
-    for (int k = 0; k < 9; ++k)
-      xj.push_back(q[9 * e.nodes_j[a] + k]);
+    for (int k = 0; k < dofs_per_node; ++k)
+      xj.push_back(q[dofs_per_node * e.nodes_j[a] + k]);
   const Eigen::Vector3d delta = particle_position(e.particle_i, xi)
                                 - particle_position(e.particle_j, xj);
   const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - normal * normal.transpose();

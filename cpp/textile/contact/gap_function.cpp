@@ -1,4 +1,5 @@
 #include "gap_function.h"
+#include "../node_unknowns.h"
 #include "../geometry_error.h"
 #include "intermediate_geometry.h"
 
@@ -11,7 +12,6 @@ namespace textile::contact
 {
 namespace
 {
-constexpr int dofs_per_node = 9;
 
 /// Newton on the moving points: at most this many iterations, converged
 /// when the step in patch coordinates is below point_tolerance.

@@ -1,4 +1,5 @@
 #include "history_transfer.h"
+#include "../node_unknowns.h"
 #include "vertical_crossing.h"
 #include "contact_normal.h"
 
@@ -148,7 +149,7 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
     if (order != 0)
     {
       normal = order * Eigen::Vector3d::UnitZ();
-      place_particles(c, SectionVectors{q, 9, 3}, p, -normal);
+      place_particles(c, SectionVectors{q, dofs_per_node, 3}, p, -normal);
       if (p.crossing) // at the vertical crossing: it moves with the fibres
         kind = GapKind::facing;
     }

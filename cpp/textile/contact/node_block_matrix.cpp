@@ -1,4 +1,5 @@
 #include "node_block_matrix.h"
+#include "../node_unknowns.h"
 #include "../assembly/aij_arrays.h"
 #include "../assembly/petsc_error.h"
 
@@ -10,7 +11,6 @@ namespace textile::contact
 {
 namespace
 {
-constexpr int dofs_per_node = 9;
 constexpr int block_size = dofs_per_node * dofs_per_node;
 } // namespace
 

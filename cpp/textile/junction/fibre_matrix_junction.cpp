@@ -1,4 +1,5 @@
 #include "fibre_matrix_junction.h"
+#include "../node_unknowns.h"
 #include "../beam/shape_functions.h"
 
 #include <array>
@@ -18,7 +19,8 @@ double fibre_matrix_junction(double k, double w, int num_fibre_nodes, double xi,
   // "points": 3 per fibre node (x0, g1, g2) and 1 per matrix node, each a
   // 3-vector entering the gap with a scalar coefficient
   const std::size_t np = 3 * nf + nm, m = 3 * np;
-  if (c.size() != 2 or X_f.size() != 9 * nf or u_f.size() != 9 * nf or X_m.size() != 3
+  const std::size_t nq = dofs_per_node * nf; // the fibre nodes' unknowns
+  if (c.size() != 2 or X_f.size() != nq or u_f.size() != nq or X_m.size() != 3
       or u_m.size() != 3 * nm or (!gap.empty() and gap.size() != 3)
       or (!r.empty() and r.size() != m) or (!K.empty() and K.size() != m * m))
     throw std::invalid_argument("fibre_matrix_junction: wrong array size");

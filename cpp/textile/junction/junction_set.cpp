@@ -1,4 +1,5 @@
 #include "junction_set.h"
+#include "../node_unknowns.h"
 #include "fibre_matrix_junction.h"
 
 #include <algorithm>
@@ -8,6 +9,15 @@
 
 namespace textile::junction
 {
+namespace
+{
+/// Where a fibre node's unknowns start in a nodal array.
+std::size_t node_offset(std::int32_t node)
+{
+  return dofs_per_node * static_cast<std::size_t>(node);
+}
+} // namespace
+
 JunctionSet::JunctionSet(double k, int num_fibre_nodes, std::vector<std::int32_t> element_nodes,
                          std::vector<double> xi, std::vector<double> section,
                          std::vector<double> weight, std::vector<double> X_fibre,
@@ -25,7 +35,7 @@ JunctionSet::JunctionSet(double k, int num_fibre_nodes, std::vector<std::int32_t
   if (_nf != 2 and _nf != 3)
     throw std::invalid_argument("JunctionSet: num_fibre_nodes must be 2 or 3");
   if (_elem.size() != n * _nf or _c.size() != 2 * n or _w.size() != n or _Xm.size() != 3 * n
-      or _cells.size() != n * _nm or _phi.size() != _cells.size() or _Xf.size() % 9)
+      or _cells.size() != n * _nm or _phi.size() != _cells.size() or _Xf.size() % dofs_per_node)
     throw std::invalid_argument("JunctionSet: inconsistent array sizes");
   const std::size_t nfib = _Xf.size() / 9;
   for (std::size_t j = 0; j < n; ++j)
@@ -68,10 +78,10 @@ void JunctionSet::gather(std::size_t j, std::span<const double> u_fibre,
   for (int a = 0; a < _nf; ++a)
   {
     const std::size_t node = static_cast<std::size_t>(_elem[_nf * j + a]);
-    for (int c = 0; c < 9; ++c)
+    for (int c = 0; c < dofs_per_node; ++c)
     {
-      Xf[9 * a + c] = _Xf[9 * node + c];
-      uf[9 * a + c] = u_fibre[9 * node + c];
+      Xf[dofs_per_node * a + c] = _Xf[dofs_per_node * node + c];
+      uf[dofs_per_node * a + c] = u_fibre[dofs_per_node * node + c];
     }
   }
   for (int b = 0; b < _nm; ++b)
@@ -88,7 +98,8 @@ double JunctionSet::assemble_vector(std::span<const double> u_fibre,
 {
   if (b_fibre.size() != u_fibre.size() or b_matrix.size() != u_matrix.size())
     throw std::invalid_argument("JunctionSet.assemble_vector: b and u sizes differ");
-  std::vector<double> Xf(9 * _nf), uf(9 * _nf), um(3 * _nm), r(9 * _nf + 3 * _nm);
+  const std::size_t nq = dofs_per_node * _nf; // the fibre nodes' unknowns
+  std::vector<double> Xf(nq), uf(nq), um(3 * _nm), r(nq + 3 * _nm);
   double energy = 0;
   for (std::size_t j = 0; j < size(); ++j)
   {
@@ -98,12 +109,12 @@ double JunctionSet::assemble_vector(std::span<const double> u_fibre,
                                     uf, std::span(_Xm).subspan(3 * j, 3),
                                     std::span(_phi).subspan(_nm * j, _nm), um, {}, r, {});
     for (int a = 0; a < _nf; ++a)
-      for (int c = 0; c < 9; ++c)
-        b_fibre[9 * static_cast<std::size_t>(_elem[_nf * j + a]) + c] += r[9 * a + c];
+      for (int c = 0; c < dofs_per_node; ++c)
+        b_fibre[node_offset(_elem[_nf * j + a]) + c] += r[dofs_per_node * a + c];
     for (int b = 0; b < _nm; ++b)
       for (int c = 0; c < 3; ++c)
         b_matrix[3 * static_cast<std::size_t>(_cells[_nm * j + b]) + c]
-            += r[9 * _nf + 3 * b + c];
+            += r[dofs_per_node * _nf + 3 * b + c];
   }
   return energy;
 }
@@ -111,7 +122,7 @@ double JunctionSet::assemble_vector(std::span<const double> u_fibre,
 void JunctionSet::assemble_matrix(Mat A, std::span<const std::int32_t> dofs_fibre,
                                   std::span<const std::int32_t> dofs_matrix)
 {
-  const int m = 9 * _nf + 3 * _nm;
+  const int m = dofs_per_node * _nf + 3 * _nm;
   const std::size_t ng = _group.size() - 1;
   _indices.resize(ng * m);
   for (std::size_t g = 0; g < ng; ++g)
@@ -119,11 +130,11 @@ void JunctionSet::assemble_matrix(Mat A, std::span<const std::int32_t> dofs_fibr
     const std::size_t j = _order[_group[g]]; // any junction of the group
     std::int32_t* idx = _indices.data() + g * m;
     for (int a = 0; a < _nf; ++a)
-      for (int c = 0; c < 9; ++c)
-        idx[9 * a + c] = dofs_fibre[9 * static_cast<std::size_t>(_elem[_nf * j + a]) + c];
+      for (int c = 0; c < dofs_per_node; ++c)
+        idx[dofs_per_node * a + c] = dofs_fibre[node_offset(_elem[_nf * j + a]) + c];
     for (int b = 0; b < _nm; ++b)
       for (int c = 0; c < 3; ++c)
-        idx[9 * _nf + 3 * b + c]
+        idx[dofs_per_node * _nf + 3 * b + c]
             = dofs_matrix[3 * static_cast<std::size_t>(_cells[_nm * j + b]) + c];
   }
   // the tangent is constant (quadratic energy): evaluate it at zero
@@ -132,13 +143,13 @@ void JunctionSet::assemble_matrix(Mat A, std::span<const std::int32_t> dofs_fibr
       A, _indices, m,
       [&](std::size_t g, std::span<double> K)
       {
-        std::vector<double> Xf(9 * _nf), zf(9 * _nf, 0.0), zm(3 * _nm, 0.0);
+        std::vector<double> Xf(dofs_per_node * _nf), zf(dofs_per_node * _nf, 0.0), zm(3 * _nm, 0.0);
         for (std::size_t i = _group[g]; i < _group[g + 1]; ++i)
         {
           const std::size_t j = _order[i];
           for (int a = 0; a < _nf; ++a)
-            for (int c = 0; c < 9; ++c)
-              Xf[9 * a + c] = _Xf[9 * static_cast<std::size_t>(_elem[_nf * j + a]) + c];
+            for (int c = 0; c < dofs_per_node; ++c)
+              Xf[dofs_per_node * a + c] = _Xf[node_offset(_elem[_nf * j + a]) + c];
           fibre_matrix_junction(_k, _w[j], _nf, _xi[j], std::span(_c).subspan(2 * j, 2), Xf, zf,
                                 std::span(_Xm).subspan(3 * j, 3),
                                 std::span(_phi).subspan(_nm * j, _nm), zm, {}, {}, K);
@@ -149,7 +160,8 @@ void JunctionSet::assemble_matrix(Mat A, std::span<const std::int32_t> dofs_fibr
 std::vector<double> JunctionSet::gaps(std::span<const double> u_fibre,
                                       std::span<const double> u_matrix) const
 {
-  std::vector<double> out(3 * size()), Xf(9 * _nf), uf(9 * _nf), um(3 * _nm);
+  const std::size_t nq = dofs_per_node * _nf; // the fibre nodes' unknowns
+  std::vector<double> out(3 * size()), Xf(nq), uf(nq), um(3 * _nm);
   for (std::size_t j = 0; j < size(); ++j)
   {
     gather(j, u_fibre, u_matrix, Xf, uf, um);
