@@ -1,4 +1,5 @@
 #include "intermediate_geometry.h"
+#include "../beam/quadrature.h"
 #include "../beam/shape_functions.h"
 #include "../geometry_error.h"
 #include "wrap_contact.h"
@@ -28,12 +29,6 @@ constexpr double merge_fraction = 1e-3;
 /// A line contact's pieces may exceed 2 x spacing by this fraction before
 /// they are cut in two (see contact_points).
 constexpr double piece_tolerance = 0.1;
-
-/// The 2-point Gauss-Legendre rule on [-1, 1] (weights 1).
-struct GaussLegendre2
-{
-  double x[2] = {-0.5773502691896257645, 0.5773502691896257645};
-};
 
 /// Abscissa on fibre i / j at intermediate parameter s.
 double along(double a, double b, double s) { return (1.0 - s) * a + s * b; }
@@ -243,7 +238,7 @@ composite_gauss_rule(std::vector<double> cuts, double length, double spacing)
                         + " for an element spacing of " + std::to_string(spacing)
                         + ": implausible state");
   std::vector<double> params, weights;
-  const GaussLegendre2 gl;
+  const beam::GaussLegendre gl = beam::gauss_legendre(2); // the beam's rule, on [-1, 1]
   for (std::size_t k = 0; k + 1 < kept.size(); ++k)
   {
     const double s0 = kept[k], s1 = kept[k + 1], ds = s1 - s0;
@@ -256,11 +251,11 @@ composite_gauss_rule(std::vector<double> cuts, double length, double spacing)
     const double pieces = ds * length / (2.0 * spacing);
     const int parts = std::max(1, static_cast<int>(std::ceil(pieces - piece_tolerance)));
     for (int m = 0; m < parts; ++m)
-      for (int gpt = 0; gpt < 2; ++gpt)
+      for (std::size_t gpt = 0; gpt < gl.points.size(); ++gpt)
       {
         const double h = ds / parts;
-        params.push_back(s0 + h * (m + 0.5 * (1.0 + gl.x[gpt])));
-        weights.push_back(0.5 * h); // Gauss weights are 1 on [-1, 1]
+        params.push_back(s0 + h * (m + 0.5 * (1.0 + gl.points[gpt])));
+        weights.push_back(0.5 * h * gl.weights[gpt]);
       }
   }
   return {params, weights};
