@@ -1,4 +1,5 @@
 #include "contact_normal.h"
+#include "tolerances.h"
 
 #include <cmath>
 
@@ -6,11 +7,6 @@ namespace textile::contact
 {
 namespace
 {
-/// |cos| between a new normal and the previous one below which the previous
-/// one says nothing about the side (the normal changed kind, e.g. from the
-/// crossing normal to an in-plane one): the centroid gap orients it then.
-constexpr double orientation_cosine = 0.1;
-
 /// The centroid gap without its component along the intermediate tangent,
 /// or, when the centroids lie on one line along the fibres, the previous
 /// normal (or any direction) orthogonal to the tangent.

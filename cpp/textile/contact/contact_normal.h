@@ -2,14 +2,10 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include "tolerances.h"
 
 namespace textile::contact
 {
-
-/// Out-of-plane separation of the centre lines, in units of the contact
-/// distance r_i + r_j, from which two fibres at an angle are taken to lie on
-/// each other (crossing normal) rather than side by side in one plane.
-inline constexpr double crossing_separation = 0.5;
 
 /// The centroid-to-centroid direction orthogonal to the unit tangent t
 /// (from the centroid gap d = x0_i - x0_j), as a unit normal oriented like

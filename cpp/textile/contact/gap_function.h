@@ -64,6 +64,7 @@
 #pragma once
 
 #include "particle.h"
+#include "tolerances.h"
 
 #include <Eigen/Dense>
 
@@ -92,12 +93,6 @@ struct GapMotion
   /// projects along)
   Eigen::Vector3d tangent_i = Eigen::Vector3d::Zero(), tangent_j = Eigen::Vector3d::Zero();
 };
-
-/// Smallest |sin| of the angle between the two centre lines' projections
-/// on the plane normal to N for which they face each other at one point
-/// (facing: below it the gap is measured at the particles, as held). Also
-/// the bound of vertical_crossing's placement.
-inline constexpr double facing_min_sine = 0.1;
 
 /// The gap of one element at the unknowns xi, xj (9 per node of each
 /// side's patch, particle.h: [patch i, patch j]) and, if asked, its

@@ -1,4 +1,5 @@
 #include "held_contact.h"
+#include "tolerances.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,11 +8,6 @@ namespace textile::contact
 {
 namespace
 {
-/// Fraction of the search distance beyond which a closed element may be
-/// lost by the next detection (the centre lines' distance is at most its
-/// centroids', so below it a zone is found).
-constexpr double hold_fraction = 0.9;
-
 /// Whether the centre line of the other fibre lies beyond fibre f's end at
 /// abscissa s (s at 0 or at the last node): `towards_other` points from
 /// fibre f's centroid to the other's.

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "contact_set.h"
+#include "tolerances.h"
 #include "detection.h"
 #include "friction_coefficients.h"
 #include "weaving_order.h"
@@ -48,12 +49,6 @@ struct ZoneInheritance
   std::vector<int> changed_kind;        ///< 1 if a matched old element was of the other
                                         ///< kind (crossing vs line contact)
 };
-
-/// How far (|u - u0| + |v - v0| in abscissas, element lengths) a line
-/// contact's points may have slid from its pass's particles for it to be
-/// kept within a step (ElementParameters::persist): a fifth of what a fibre
-/// sliding over an arc moves in a step (tests/contact/test_frictionless_drag.py).
-inline constexpr double persist_drift = 0.01;
 
 /// Parameters of the elements a pass makes.
 struct ElementParameters

@@ -1,4 +1,5 @@
 #include "intermediate_geometry.h"
+#include "tolerances.h"
 #include "../beam/quadrature.h"
 #include "../beam/shape_functions.h"
 #include "../geometry_error.h"
@@ -14,36 +15,13 @@ namespace textile::contact
 {
 namespace
 {
-/// |cos| of the angle between the centroid gap and a fibre's axis above
-/// which the contact is an end cap (excluded): within about 8 degrees.
-constexpr double end_cap_cosine = 0.99;
-
 /// Bound on the elements of one zone, in units of the spacing: only a
 /// diverged iterate stretches a zone that far.
 constexpr double max_points_per_zone = 1e6;
 
-/// Pieces of a line contact shorter than this fraction of the spacing are
-/// merged into a neighbour (see contact_points).
-constexpr double merge_fraction = 1e-3;
-
-/// A line contact's pieces may exceed 2 x spacing by this fraction before
-/// they are cut in two (see contact_points).
-constexpr double piece_tolerance = 0.1;
-
 /// Abscissa on fibre i / j at intermediate parameter s.
 double along(double a, double b, double s) { return (1.0 - s) * a + s * b; }
 
-/// Crossings whose closest points lie closer than this (in element
-/// coordinates) to a node are placed at the node, and closer than
-/// kink_snap to a node where the centre line kinks by more than kink_angle
-/// (radians) (see snapped).
-constexpr double node_snap = 1e-2;
-
-/// Passes that re-orient a line contact's section plane (contact_points);
-/// it settles to round-off in 2-4 on curved fibres.
-constexpr int max_section_passes = 8;
-constexpr double kink_snap = 0.1;
-constexpr double kink_angle = 1e-3;
 
 Eigen::Vector3d intermediate_point(const Centrelines& c, const ProximityZone& z, double s)
 {

@@ -11,6 +11,7 @@
 #pragma once
 
 #include "centreline.h"
+#include "tolerances.h"
 #include "closest_points.h"
 #include "proximity_zone.h"
 
@@ -75,13 +76,6 @@ Eigen::Vector3d unit_tangent(const Centrelines& c, int f, double s);
 /// moves across a kinked node instead of jumping by the kink angle.
 Eigen::Vector3d blended_tangent(const Centrelines& c, int f, double s);
 
-/// Half-width of the window of blended_tangent (element coordinates): half
-/// an element, so the tangent turns as slowly as it can; with a quarter the
-/// normal turned so fast with the crossing's place that the passes
-/// oscillated (a picture frame of monofilaments 4 widths apart stopped at
-/// 23 deg; it reaches 28 deg with half an element, as without blending).
-inline constexpr double kink_blend = 0.5;
-
 /// Mean of two unit tangents, the second flipped if the fibres run in
 /// opposite directions (an intermediate geometry has no orientation).
 Eigen::Vector3d mean_tangent(const Eigen::Vector3d& ti, const Eigen::Vector3d& tj);
@@ -122,9 +116,6 @@ double intermediate_length(const Centrelines& c, const ProximityZone& z, int sam
 /// contact, 0 for a new zone.
 bool is_crossing(const Centrelines& c, const ProximityZone& z, double parallel_angle,
                  double delta_factor, double bias = 0.0);
-
-/// Margin of the crossing criterion's hysteresis (is_crossing).
-inline constexpr double crossing_bias = 0.25;
 
 /// Element boundaries of a fibre strictly inside (a, b) (abscissas),
 /// appended to `cuts` as fractions of [a, b].

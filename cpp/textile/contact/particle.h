@@ -24,6 +24,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include "tolerances.h"
 
 #include <array>
 #include <span>
@@ -31,11 +32,6 @@
 
 namespace textile::contact
 {
-
-/// Widest half-width (element lengths) of the window over which a
-/// two-element patch is smoothed across its shared node (the kink_blend of
-/// tangents, intermediate_geometry.h: the same spread of a kink).
-inline constexpr double patch_smoothing = 0.5;
 
 /// Most nodes of a patch: two quadratic elements.
 inline constexpr int max_patch_nodes = 5;

@@ -1,4 +1,5 @@
 #include "wrap_contact.h"
+#include "tolerances.h"
 #include "closest_points.h"
 #include "contact_normal.h"
 
@@ -9,10 +10,6 @@ namespace textile::contact
 {
 namespace
 {
-/// |cos| of the angle between a centroid gap and a fibre's axis above
-/// which the point faces a fibre end (as in contact_points).
-constexpr double end_cap_cosine = 0.99;
-
 /// Angle (radians) by which fibre f's unit tangent turns from a to b.
 double turn(const Centrelines& c, int f, double a, double b)
 {

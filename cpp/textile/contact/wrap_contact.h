@@ -17,6 +17,7 @@
 #pragma once
 
 #include "centreline.h"
+#include "tolerances.h"
 #include "intermediate_geometry.h"
 #include "proximity_zone.h"
 
@@ -24,10 +25,6 @@
 
 namespace textile::contact
 {
-
-/// Width of a wrap's contact region above the closest distance, in units of
-/// r_i + r_j (wrapping_fibre).
-inline constexpr double wrap_band = 0.05;
 
 /// The fibre of crossing zone z that wraps around the other: the one whose
 /// unit tangent turns the most between the ends of its interval of the

@@ -1,0 +1,110 @@
+// Every tolerance and switch of the fibre contact, in one place.
+//
+// Contact is geometry between curved, moving centre lines, and a few
+// choices have no exact answer: when two fibres count as crossing or lying
+// along each other, how near a node a point snaps to it, how far a kept
+// element may drift. Each lives here, with what it decides, its unit, and
+// the test that pins it (a value changed so that the test fails is the
+// reason for the value); "no test pins it" marks a gap to close.
+#pragma once
+
+namespace textile::contact
+{
+
+// -- what kind of contact a zone is ------------------------------------------
+
+/// Margin of the crossing criterion's hysteresis (is_crossing,
+/// intermediate_geometry.h): a zone that was a crossing stays one down to
+/// (1 - bias) parallel_angle, a line contact becomes a crossing only above
+/// (1 + bias). Pinned by cpp/tests/test_zone_kind.cpp and
+/// tests/contact/test_penalty_units.py (a zone flipping kind every pass).
+inline constexpr double crossing_bias = 0.25;
+
+/// Out-of-plane separation of the centre lines, in units of r_i + r_j,
+/// from which two fibres at an angle lie on each other (crossing normal)
+/// rather than side by side in one plane (contact_normal.h). Pinned by
+/// tests/contact/test_coplanar_fibres.py (coplanar fibres read a false
+/// penetration of 2 R along t_i x t_j without it).
+inline constexpr double crossing_separation = 0.5;
+
+/// Width of a wrap's contact region above the closest distance, in units of
+/// r_i + r_j (wrapping_fibre, wrap_contact.h). Pinned by
+/// cpp/tests/test_contact_wrap.cpp and tests/contact/test_capstan.py.
+inline constexpr double wrap_band = 0.05;
+
+/// |cos| of the angle between a centroid gap and a fibre's axis above which
+/// the point faces the fibre's end (an end cap, excluded): within about 8
+/// degrees. Pinned by tests/contact/test_effect_switches.py (end caps).
+inline constexpr double end_cap_cosine = 0.99;
+
+// -- where a crossing's element sits -------------------------------------------
+
+/// Crossings whose closest points lie closer than this (element
+/// coordinates) to a node are placed at the node (snapped,
+/// intermediate_geometry.cpp). No test pins it.
+inline constexpr double node_snap = 1e-2;
+
+/// ... and closer than kink_snap to a node where the centre line kinks by
+/// more than kink_angle (radians). No test pins them.
+inline constexpr double kink_snap = 0.1;
+inline constexpr double kink_angle = 1e-3;
+
+/// Half-width of blended_tangent's window (element coordinates): half an
+/// element, so the tangent turns as slowly as it can; with a quarter the
+/// normal turned so fast with the crossing's place that the passes
+/// oscillated (a picture frame of monofilaments 4 widths apart stopped at
+/// 23 deg; it reaches 28 deg with half an element, as without blending).
+/// Pinned by tests/virtual/test_picture_frame.py.
+inline constexpr double kink_blend = 0.5;
+
+/// Widest half-width (element lengths) of the window over which a
+/// two-element patch is smoothed across its shared node: the same spread
+/// of a kink as kink_blend. Pinned by cpp/tests/test_gap_function.cpp
+/// (ContactPatch: smooth and exact across a kinked node).
+inline constexpr double patch_smoothing = kink_blend;
+
+/// Smallest |sin| of the angle between the two centre lines' projections on
+/// the plane normal to N for which they face each other at one point
+/// (gap_function.h, facing; below it the gap is measured at the particles,
+/// as held). Also the bound of vertical_crossing's placement. Pinned by
+/// cpp/tests/test_gap_function.cpp (FacingBetweenParallelCentreLines...).
+inline constexpr double facing_min_sine = 0.1;
+
+/// |cos| between a new normal and the previous one below which the
+/// previous one says nothing about the side (the normal changed kind, e.g.
+/// from the crossing normal to an in-plane one): the centroid gap orients
+/// it then (contact_normal.cpp). No test pins it.
+inline constexpr double orientation_cosine = 0.1;
+
+// -- line contacts ---------------------------------------------------------------
+
+/// Pieces of a line contact shorter than this fraction of the spacing are
+/// merged into a neighbour (contact_points). No test pins it.
+inline constexpr double merge_fraction = 1e-3;
+
+/// A line contact's pieces may exceed 2 x spacing by this fraction before
+/// they are cut in two: a zone stretched by a hair keeps its elements
+/// (contact_points). No test pins it.
+inline constexpr double piece_tolerance = 0.1;
+
+/// Passes that re-orient a line contact's section plane (contact_points);
+/// it settles to round-off in 2-4 on curved fibres.
+inline constexpr int max_section_passes = 8;
+
+// -- from one pass to the next -----------------------------------------------------
+
+/// Fraction of the search distance beyond which a closed element may be
+/// lost by the next detection (the centre lines' distance is at most its
+/// centroids', so below it a zone is found): such elements are held
+/// (held_contact.h). Pinned by cpp/tests/test_contact_held.cpp and
+/// tests/contact/test_tunnelling.py.
+inline constexpr double hold_fraction = 0.9;
+
+/// How far (|u - u0| + |v - v0| in abscissas, element lengths) a line
+/// contact's points may have slid from its pass's particles for it to be
+/// kept within a step (ElementParameters::persist, history_transfer.h): a
+/// fifth of what a fibre sliding over an arc moves in a step. Pinned by
+/// tests/contact/test_frictionless_drag.py.
+inline constexpr double persist_drift = 0.01;
+
+} // namespace textile::contact
