@@ -6,7 +6,7 @@ Two reference problems with closed-form answers:
     M = 2 pi E I / L about z, solved to load factor 0.5 (rotation pi, tip at
     (0, 2L/pi)) with 8 fixed load steps of 0.0625. Error = |tip - ref| / L.
 (b) Euler buckling of a clamped-free column (L=0.5, R=1e-3, E=1e9, nu=0.3)
-    under a dead end force [-P, 0, 0], by ``textile.analysis.linear_buckling``.
+    under a dead end force [-P, 0, 0], by ``textile.stability.buckling.linear_buckling``.
     Error = |P_cr / (pi^2 E I / (4 L^2)) - 1|.
 
 Swept: elements per fibre, section quadrature order, element type
@@ -30,7 +30,7 @@ import time
 import numpy as np
 
 import textile
-import textile.analysis as analysis
+import textile.stability.buckling as analysis
 from textile import BeamElement, Material, Model, Solver, straight_fibre
 
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "output")

@@ -31,7 +31,7 @@ from textile import runtime
 from textile.block_nodes import BlockNodes
 from textile.effects.elastic_block import ElasticBlock
 from textile.effects.fibre_matrix_junction import FibreMatrixJunctions
-from textile.matrix_mesh import gmsh_box
+from textile.composite.matrix_mesh import gmsh_box
 
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "output")
 L, W, H = 10.0e-3, 4.0e-3, 4.0e-3          # m

@@ -8,7 +8,7 @@ only for its effects.
     the same fibres' C++ beam kernels (``_cpp.BeamAssembler``) assembling
     the residual and the tangent into a plain PETSc AIJ matrix, solved with
     the same KSP/PC (preonly + MUMPS LDL^T, null-pivot detection on, as
-    ``textile.linear_solver`` sets it), the same Newton iterations in each
+    ``textile.solver.linear_solver`` sets it), the same Newton iterations in each
     step (the ones the solver needed), the same residual evaluations (one
     more a step than iterations) -- no Model, Solver, effects, layout or
     dolfinx. Time per Newton iteration and peak memory (ru_maxrss of a
@@ -215,8 +215,8 @@ def run_fabric(args, variant: str, factorization: str) -> dict:
     import textile
     from textile.effects.weaving_contact import weaving_mode
     from textile.fabric import Fabric
-    from textile.weaving import Weaving
-    from textile.yarn import Yarn
+    from textile.fabric import Weaving
+    from textile.fabric import Yarn
 
     R = 0.1e-3
     yarn = Yarn(1, R, textile.Material(5.0e9, 0.35), packing="layers 1")

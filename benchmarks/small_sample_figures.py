@@ -33,7 +33,7 @@ from mpi4py import MPI
 import textile
 from textile import runtime
 from textile.virtual_tests import Bending, Shear, Tension, Twisting
-from textile.weaving import woven_state
+from textile.fabric import woven_state
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 from tests.woven_states import plain_weave  # noqa: E402  (the tests' sample)

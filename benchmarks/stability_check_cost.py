@@ -11,7 +11,7 @@ and compared with the mean time of the run's Newton LDL^T factorizations
 (PETSc's event log):
 
 - the inertia: the negative pivots of the Newton factorization (free);
-- the search for zero-energy motions (textile.zero_motions), which the
+- the search for zero-energy motions (textile.stability.zero_motions), which the
   solver runs only at steps with negative pivots; here forced, on every
   fibre's candidates (the fibres are held by junctions and rigid-body
   multipliers, not by constrained rows, so all of them are admissible);
@@ -36,8 +36,8 @@ from mpi4py import MPI
 
 import textile
 from textile import runtime
-from textile.stability import critical_modes, factor_negative_pivots, zero_motion_pivots
-from textile.zero_motions import zero_energy_motions
+from textile.stability.inertia import critical_modes, factor_negative_pivots, zero_motion_pivots
+from textile.stability.zero_motions import zero_energy_motions
 
 from composite_costs import E_F, NU, OUT, L, W, scene
 

@@ -48,9 +48,8 @@ from mpi4py import MPI
 import textile
 from textile import runtime
 from textile.effects.fibre_contact import FibreContact
-from textile.fabric import Fabric
+from textile.fabric import Fabric, Yarn
 from textile.virtual_tests import Bending, IncompleteTest, Shear, Twisting
-from textile.yarn import Yarn
 
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "output")
 R = 0.1e-3

@@ -2,7 +2,7 @@
 
 Weaves a 2 x 2 plain weave of ``--fibres`` hexagonal bundles (R = 0.1 mm,
 E = 5 GPa), ``--spacing`` yarn widths apart, with the default weaving scene
-(:class:`textile.weaving.Weaving`) and, per case, the weaving stage's
+(:class:`textile.fabric.weaving.Weaving`) and, per case, the weaving stage's
 ``easy_iterations`` and an optional :class:`~textile.effects.ViscousDrag`
 fading as (1 - s)^2 over the weaving stage. Prints and writes to
 ``output/weave_bundles.json`` how far each case got (load factor of the
@@ -26,9 +26,7 @@ from mpi4py import MPI
 
 import textile
 from textile.effects import ViscousDrag
-from textile.fabric import Fabric
-from textile.weaving import Weaving
-from textile.yarn import Yarn
+from textile.fabric import Fabric, Weaving, Yarn
 
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "output")
 R = 0.1e-3

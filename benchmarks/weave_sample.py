@@ -1,7 +1,7 @@
 """The paper's sample woven: 6 warp x 6 weft yarns of 28 fibres (336 fibres).
 
 Weaves the sample (plain weave, then a 2/2 twill) with the default
-weaving scene (:class:`textile.weaving.Weaving`), prints its size as in the
+weaving scene (:class:`textile.fabric.weaving.Weaving`), prints its size as in the
 paper's Table 1 (fibres, fibre nodes, fibre unknowns, contact elements),
 the wall time and Newton iterations of every step (failed attempts
 included), the woven fabric's figures, and writes them to
@@ -32,9 +32,7 @@ from mpi4py import MPI
 
 import textile
 from textile import runtime
-from textile.fabric import Fabric
-from textile.weaving import Weaving
-from textile.yarn import Yarn
+from textile.fabric import Fabric, Weaving, Yarn
 
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "output")
 R = 0.1e-3

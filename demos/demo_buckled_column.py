@@ -4,7 +4,7 @@
 This demo shows how to
 
 * find a critical load with linearized buckling
-  (:func:`textile.analysis.linear_buckling`),
+  (:func:`textile.stability.buckling.linear_buckling`),
 * follow the post-buckling path of the same column by load stepping, with a
   tiny lateral force that picks the buckling direction,
 * record a load curve with ``on_step`` and ``Output(extra=...)``.
@@ -85,7 +85,7 @@ import scipy.special
 from mpi4py import MPI
 
 import textile
-from textile.analysis import linear_buckling
+from textile.stability.buckling import linear_buckling
 from textile.io.plots import plot_curve
 
 parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])

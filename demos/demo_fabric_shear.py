@@ -7,7 +7,7 @@ A 2 x 2 plain weave (flat yarns of ``--fibres`` fibres side by side) is
 woven first (or read from a saved woven state, ``--woven``), then sheared
 twice from that state, once each way (docs/method.md §10):
 
-1. **the scene** (:class:`textile.sample.Sample`): the woven fibres with
+1. **the scene** (:class:`textile.fabric.sample.Sample`): the woven fibres with
    their crimp, their pre-stress and their contact history; contact with
    friction (mu = 0.2), which starts afresh in the woven state (every
    contact sticks where weaving left it); a rigid body on side ``xmin``
@@ -43,10 +43,8 @@ import numpy as np
 from mpi4py import MPI
 
 import textile
-from textile.fabric import Fabric
+from textile.fabric import Fabric, Yarn, woven_state
 from textile.virtual_tests import LoadCurve, Shear
-from textile.weaving import woven_state
-from textile.yarn import Yarn
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--output", default=os.path.join(os.path.dirname(os.path.abspath(__file__)),

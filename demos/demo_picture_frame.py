@@ -73,10 +73,8 @@ import os
 from mpi4py import MPI
 
 import textile
-from textile.fabric import Fabric
+from textile.fabric import Fabric, Yarn, woven_state
 from textile.virtual_tests import PictureFrame
-from textile.weaving import woven_state
-from textile.yarn import Yarn
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--output", default=os.path.join(os.path.dirname(os.path.abspath(__file__)),

@@ -49,9 +49,7 @@ import os
 from mpi4py import MPI
 
 import textile
-from textile.fabric import Fabric
-from textile.weaving import Weaving
-from textile.yarn import Yarn
+from textile.fabric import Fabric, Weaving, Yarn
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--output", default=os.path.join(os.path.dirname(os.path.abspath(__file__)),

@@ -30,9 +30,8 @@ import os
 from mpi4py import MPI
 
 import textile
-from textile.fabric import Fabric
+from textile.fabric import Fabric, Yarn
 from textile.io.sample_pictures import draw_sample_pictures, fabric_labels, yarn_axes
-from textile.yarn import Yarn
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--output", default=os.path.join(os.path.dirname(__file__), "output",

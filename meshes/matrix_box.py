@@ -4,8 +4,8 @@
 The box [corner0, corner1] is meshed with first-order tetrahedra of edge
 length about --size; its six sides are physical surfaces named xmin, xmax,
 ymin, ymax, zmin, zmax (tags 1-6) and its volume the physical volume
-"matrix" (tag 7), as textile.matrix_mesh.gmsh_box makes them. Read the
-file back with textile.matrix_mesh.read_msh(comm, path), or edit it in gmsh
+"matrix" (tag 7), as textile.composite.matrix_mesh.gmsh_box makes them. Read the
+file back with textile.composite.matrix_mesh.read_msh(comm, path), or edit it in gmsh
 first (the named groups are what textile reads).
 
     python3 meshes/matrix_box.py --corner0 0 0 0 --corner1 2 1 0.2 --size 0.1 -o box.msh
@@ -18,9 +18,9 @@ import sys
 
 
 def _matrix_mesh():
-    """textile.matrix_mesh, from this source tree when textile is not installed."""
+    """textile.composite.matrix_mesh, from this source tree when textile is not installed."""
     sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-    from textile import matrix_mesh
+    from textile.composite import matrix_mesh
     return matrix_mesh
 
 

@@ -2,10 +2,7 @@
 and saved once, on rank 0 alone, read by every rank."""
 from mpi4py import MPI
 
-from textile.fabric import Fabric
-
-from textile.weaving import woven_state
-from textile.yarn import Yarn
+from textile.fabric import Fabric, Yarn, woven_state
 
 
 def woven_once(tmp_path_factory, fabric, solver_options=None) -> str:

@@ -24,9 +24,9 @@ log.configure()  # the textile logger: rank in the lines, ranks > 0 quiet
 # oversubscription under mpirun); see textile.runtime
 runtime.limit_blas_threads()
 from ._cpp import GeometryError  # noqa: E402
-from .element import BeamElement  # noqa: E402
-from .fibre import Fibre, arc_fibre, straight_fibre  # noqa: E402
-from .material import Material  # noqa: E402
+from .beam.element import BeamElement  # noqa: E402
+from .beam.fibre import Fibre, arc_fibre, straight_fibre  # noqa: E402
+from .beam.material import Material  # noqa: E402
 from .model import Model  # noqa: E402
 from .io.state_file import (SceneMismatchError, StateFileError, load_fibres,  # noqa: E402
                             load_state, save_state, saved_configuration)

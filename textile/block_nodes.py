@@ -22,7 +22,7 @@ class BlockNodes:
         the model too).
     where:
         A side name of the block's mesh ("xmin" ... "zmax" for
-        :func:`textile.matrix_mesh.gmsh_box`) or a list of them; a marker
+        :func:`textile.composite.matrix_mesh.gmsh_box`) or a list of them; a marker
         ``x -> bool array`` with x of shape (3, n), the reference
         coordinates of the block's local nodes; or an array of local node
         indices of this rank (owned and ghost numbering of

@@ -13,14 +13,14 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from . import _cpp
-from .convergence import ResidualGroups
+from .beam.element import BeamElement
+from .beam.fibre import Fibre
+from .beam.fibre_mesh import FibreMesh, dof_indices
 from .effects import BeamElasticity, EndMoments, NodalForces, State
 from .effects.base import Effect
-from .element import BeamElement
-from .fibre import Fibre
-from .fibre_mesh import FibreMesh, dof_indices
 from .layout import DofLayout, Field, SparsityBuilder
 from .loading import Handle, Schedule
+from .solver.convergence import ResidualGroups
 
 
 class Model:
@@ -344,7 +344,7 @@ class Model:
         return out
 
     def _setup_residual_groups(self) -> None:
-        """Rows of the owned global vector by group (see textile.convergence):
+        """Rows of the owned global vector by group (see textile.solver.convergence):
         the free rows of each group, and which reactions (constrained rows,
         in the order of ``_owned_constrained``) belong to it."""
         constrained = self.owned_positions(self._owned_constrained(0.0)[0])
@@ -625,7 +625,7 @@ class Model:
     def floors(self, x: PETSc.Vec) -> np.ndarray | None:
         """Round-off floor of each residual group at x: | (|K| |q|)_g |, K
         the last assembled tangent, q the unknowns as the kernels see them
-        (textile.convergence); None before any tangent. Collective; computed
+        (textile.solver.convergence); None before any tangent. Collective; computed
         only when the convergence test needs it (a pass over the matrix)."""
         K = self._floor_tangent
         if K is None:

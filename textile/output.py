@@ -5,7 +5,7 @@ step it writes the fibres (centre lines with section vectors, displacement,
 and per-segment section-averaged strain and stress) to
 ``<directory>/fibres_<step>.vtu``, indexes them in ``fibres.pvd``, and
 appends the step's statistics to ``results.json``. The fibres' loads
-(:mod:`textile.fibre_loads`) go with them: per segment the element's
+(:mod:`textile.beam.fibre_loads`) go with them: per segment the element's
 ``curvature`` and ``surface_stress``, per fibre (point and cell arrays, one
 value per fibre) ``max_axial_strain``, ``max_curvature`` and
 ``max_stress``, and in each step's record of results.json
@@ -41,7 +41,8 @@ from collections.abc import Mapping
 import numpy as np
 from mpi4py import MPI
 
-from .fibre_loads import FIGURES, element_loads, fibre_maxima, gathered_element_fields, top_fibres
+from .beam.fibre_loads import (FIGURES, element_loads, fibre_maxima, gathered_element_fields,
+                               top_fibres)
 from .io import PVDSeries, ResultsLog, SceneSeries, write_fibres_vtu
 
 _VOIGT = ("11", "22", "33", "23", "13", "12")

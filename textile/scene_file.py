@@ -3,7 +3,7 @@
 ``python3 -m textile run scene.toml`` (:mod:`textile.__main__`) reads the
 file with the standard library's :mod:`tomllib`, checks it against the
 schema below and builds the scene from textile's public objects
-(:class:`~textile.fabric.Fabric`, :class:`~textile.weaving.Weaving`,
+(:class:`~textile.fabric.Fabric`, :class:`~textile.fabric.weaving.Weaving`,
 :mod:`textile.virtual_tests`, :class:`~textile.Model`,
 :class:`~textile.RigidBody`, :class:`~textile.Stage`, ...). Three kinds:
 
@@ -547,7 +547,7 @@ def _check_fibres(reader, scene, materials):
             reader.fail(path, f"handle {_show(name)} is defined twice")
         handles[name] = (kind, size)
 
-    from .fibre_mesh import dof_indices
+    from .beam.fibre_mesh import dof_indices
     for i, load in enumerate(scene["loads"] or []):
         path = f"loads[{i}]"
         fibre_node(_key(path, "fibre"), load["fibre"], load["node"])
@@ -720,7 +720,7 @@ class Scene:
 
     # -- the parts ---------------------------------------------------------------
     def materials(self) -> dict:
-        from .material import Material
+        from .beam.material import Material
         out = {}
         for name, m in (self.data["materials"] or {}).items():
             with self._building(f"materials.{name}"):
@@ -728,8 +728,8 @@ class Scene:
         return out
 
     def fabric(self):
-        from .fabric import Fabric
-        from .yarn import Yarn
+        from .fabric.fabric import Fabric
+        from .fabric.yarn import Yarn
         d, materials = self.data["fabric"], self.materials()
         yarns = {}
         for key in ("yarn", "weft_yarn"):
@@ -834,7 +834,7 @@ class Scene:
     def _run_weave(self, directory, resume, comm):
         from .io.state_file import save_state
         from .solver import Solver
-        from .weaving import Weaving
+        from .fabric.weaving import Weaving
         fabric = self.fabric()
         with self._building("weaving"):
             weaving = Weaving(fabric, comm=comm, **self.weaving_options())
@@ -850,7 +850,7 @@ class Scene:
 
     def _run_test(self, directory, resume, comm):
         from . import virtual_tests
-        from .weaving import woven_state
+        from .fabric.weaving import woven_state
         test = self.data["test"]
         fabric = self.fabric()
         woven = self.path(test["woven"]) if test["woven"] else None
@@ -919,7 +919,7 @@ class Scene:
 
         from .effects.fibre_contact import FibreContact
         from .effects.viscous_drag import ViscousDrag
-        from .fibre import straight_fibre
+        from .beam.fibre import straight_fibre
         from .loading import Stage
         from .model import Model
         from .output import Output

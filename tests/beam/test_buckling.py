@@ -4,7 +4,7 @@ import pytest
 from mpi4py import MPI
 
 import textile
-from textile.analysis import linear_buckling
+from textile.stability.buckling import linear_buckling
 
 from .common import section
 

@@ -36,7 +36,9 @@ def source_packages() -> list[str]:
 
 def test_every_subpackage_is_installed():
     packages = source_packages()
-    assert {"textile", "textile.effects", "textile.io", "textile.virtual_tests"} <= set(packages)
+    assert {"textile", "textile.beam", "textile.fabric", "textile.composite", "textile.solver",
+            "textile.stability", "textile.effects", "textile.io",
+            "textile.virtual_tests"} <= set(packages)
     missing = sorted(set(packages) - set(distributed_packages()))
     assert not missing, f"pyproject.toml does not install {missing}"
 

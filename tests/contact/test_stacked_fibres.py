@@ -30,9 +30,7 @@ rolls off as they spread: a negative eigenvalue, measured at 77%).
 from mpi4py import MPI
 
 import textile
-from textile.fabric import Fabric
-from textile.weaving import Weaving
-from textile.yarn import Yarn
+from textile.fabric import Fabric, Weaving, Yarn
 
 R = 0.1e-3
 MAT = textile.Material(5.0e9, 0.35)

@@ -13,9 +13,7 @@ from mpi4py import MPI
 import textile
 from textile.effects.fibre_contact import FibreContact
 from textile.effects.weaving_contact import weaving_mode, yarn_above
-from textile.fabric import Fabric
-from textile.weave_pattern import WeavePattern
-from textile.yarn import Yarn
+from textile.fabric import Fabric, WeavePattern, Yarn
 
 E, R = 1.0e9, 1e-3
 MAT = textile.Material(E, 0.3)

@@ -49,7 +49,7 @@ history = textile.Solver(model, {"verbose": False}).solve()
 assert model.load_factor == 1.0 and history[-1].newton_iterations >= 1
 print(" ".join(sorted(m for m in sys.modules if m.split(".")[0] in
                       ("gmsh", "dolfinx", "ufl", "ffcx", "slepc4py")
-                      or m.startswith(("textile.effects.", "textile.matrix_mesh",
+                      or m.startswith(("textile.effects.", "textile.composite.matrix_mesh",
                                        "textile.composite")))))
 # dolfinx's Python layer, imported after its core was loaded alone, works
 # and shares the core (one set of types)
@@ -76,7 +76,7 @@ def test_fibre_only_scene_imports_no_matrix_machinery():
     assert lines[-1] == "later import works"
     loaded = set(lines[-2].split())
     unused = {"gmsh", "dolfinx", "dolfinx.fem", "dolfinx.mesh", "dolfinx.io", "ufl", "ffcx",
-              "slepc4py", "textile.matrix_mesh", "textile.composite"} | {
+              "slepc4py", "textile.composite.matrix_mesh", "textile.composite"} | {
         f"textile.effects.{name}" for name in ("elastic_block", "fibre_matrix_tie",
                                                "fibre_matrix_junction", "fibre_contact",
                                                "weaving_contact", "rigid_bodies")}

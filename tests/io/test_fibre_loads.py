@@ -1,4 +1,4 @@
-"""Fibre loads (textile.fibre_loads) against closed forms, in ParaView, and
+"""Fibre loads (textile.beam.fibre_loads) against closed forms, in ParaView, and
 on 1 vs 2 ranks.
 
 - a straight fibre pulled to a stretch 1 + eps: max_axial_strain is the
@@ -20,8 +20,8 @@ import pytest
 from mpi4py import MPI
 
 import textile
-from textile.fibre_loads import (FIGURES, element_loads, fibre_loads, gathered_element_fields,
-                                 ranked_table)
+from textile.beam.fibre_loads import (FIGURES, element_loads, fibre_loads,
+                                      gathered_element_fields, ranked_table)
 
 from tests.installed import import_installed
 

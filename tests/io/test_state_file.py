@@ -28,7 +28,7 @@ import textile
 from textile.composite import Composite
 from textile.io import state_file
 from textile.io.state_file import SceneMismatchError, StateFileError
-from textile.sample import Sample
+from textile.fabric import Sample
 
 from tests.woven_states import plain_weave, woven_once
 
@@ -375,8 +375,8 @@ def test_a_weave_resumes_within_its_weaving_stage(tmp_path):
     for penetration and ended with a crimp 2% off (found through the scene
     files' --resume)."""
     from textile.fabric import Fabric
-    from textile.weaving import Weaving
-    from textile.yarn import Yarn
+    from textile.fabric import Weaving
+    from textile.fabric import Yarn
 
     def scene():
         yarn = Yarn(1, 1e-4, textile.Material(5.0e9, 0.35))

@@ -157,7 +157,7 @@ def test_fibre_data_is_checked(tmp_path):
 
 def test_fabric_labels():
     from textile.fabric import Fabric
-    from textile.yarn import Yarn
+    from textile.fabric import Yarn
     fabric = Fabric(Yarn(7, 0.05, textile.Material(1e9, 0.3)), num_warp=2, num_weft=4,
                     spacing=1.0)
     labels = fabric_labels(fabric)

@@ -14,8 +14,8 @@ from mpi4py import MPI
 import textile
 from textile.composite import Composite
 from textile.effects.elastic_block import ElasticBlock
-from textile.matrix_mesh import box_mesh
-from textile.sample import Sample
+from textile.composite.matrix_mesh import box_mesh
+from textile.fabric import Sample
 
 from tests.woven_states import plain_weave, woven_once
 

@@ -10,7 +10,7 @@ from mpi4py import MPI
 
 import textile
 from textile.effects.elastic_block import ElasticBlock
-from textile.matrix_mesh import gmsh_box
+from textile.composite.matrix_mesh import gmsh_box
 
 from block_scenes import SideDisplacement, block_model
 

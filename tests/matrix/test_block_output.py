@@ -11,7 +11,7 @@ from mpi4py import MPI
 import textile
 from textile.effects.elastic_block import ElasticBlock
 from textile.effects.fibre_matrix_tie import FibreMatrixTie
-from textile.matrix_mesh import gmsh_box
+from textile.composite.matrix_mesh import gmsh_box
 
 from tests.installed import import_installed
 

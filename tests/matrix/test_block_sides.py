@@ -5,7 +5,7 @@ import pytest
 from mpi4py import MPI
 
 from textile.effects.elastic_block import ElasticBlock
-from textile.matrix_mesh import box_mesh, gmsh_box
+from textile.composite.matrix_mesh import box_mesh, gmsh_box
 
 pytestmark = pytest.mark.mpi
 P0, P1 = np.array([0.0, 0.0, 0.0]), np.array([2.0, 1.0, 0.5])

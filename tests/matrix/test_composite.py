@@ -15,7 +15,7 @@ from mpi4py import MPI
 
 import textile
 from textile.composite import Composite
-from textile.fabric_measures import crossing_separation
+from textile.fabric.measures import crossing_separation
 from textile.virtual_tests import plate_references
 
 from tests.woven_states import plain_weave, woven_once

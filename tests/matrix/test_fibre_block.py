@@ -17,7 +17,7 @@ from mpi4py import MPI
 import textile
 from textile.effects.elastic_block import ElasticBlock
 from textile.effects.fibre_matrix_tie import FibreMatrixTie
-from textile.matrix_mesh import box_mesh
+from textile.composite.matrix_mesh import box_mesh
 
 pytestmark = pytest.mark.mpi
 

@@ -12,7 +12,7 @@ from mpi4py import MPI
 import textile
 from textile.effects.elastic_block import ElasticBlock
 from textile.effects.fibre_matrix_junction import FibreMatrixJunctions
-from textile.matrix_mesh import box_mesh
+from textile.composite.matrix_mesh import box_mesh
 
 ONE_STEP = {"verbose": False, "initial_step": 1.0, "max_step": 1.0, "stability_check": "off"}
 

@@ -12,8 +12,8 @@ from dolfinx import fem
 from mpi4py import MPI
 
 import textile
-from textile.matrix_mesh import (SIDE_TAGS, MatrixMesh, box_around_fibres, fibre_box, gmsh_box,
-                                 read_msh)
+from textile.composite.matrix_mesh import (SIDE_TAGS, MatrixMesh, box_around_fibres, fibre_box,
+                                           gmsh_box, read_msh)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 P0, P1 = np.array([0.0, -0.5, 0.1]), np.array([2.0, 0.5, 0.4])
@@ -80,7 +80,7 @@ def test_read_msh_errors(tmp_path):
         read_msh(MPI.COMM_SELF, str(tmp_path / "missing.msh"))
     # a mesh without physical groups: dolfinx would import nothing
     import gmsh
-    from textile.matrix_mesh import gmsh_session
+    from textile.composite.matrix_mesh import gmsh_session
     path = str(tmp_path / "untagged.msh")
     with gmsh_session():
         gmsh.model.add("untagged")
@@ -146,7 +146,7 @@ model.add_force(fibre, -1, [0, 0, -1e-3])
 output = textile.Output(sys.argv[1], pictures=False)
 history = textile.Solver(model, {"verbose": False}, output=output).solve()
 assert model.load_factor == 1.0
-import textile.matrix_mesh  # importing the matrix-mesh module does not import gmsh either
+import textile.composite.matrix_mesh  # importing the matrix-mesh module: no gmsh either
 print("gmsh" in sys.modules, len(made), "textile.effects.elastic_block" in sys.modules)
 """
 
@@ -154,7 +154,7 @@ print("gmsh" in sys.modules, len(made), "textile.effects.elastic_block" in sys.m
 def test_fibre_only_scene_never_touches_gmsh_or_a_matrix_mesh(tmp_path):
     """A fibre-only solve with output: gmsh not imported, no dolfinx mesh
     built, the matrix block's module not loaded, no scene.pvd; importing
-    textile.matrix_mesh does not import gmsh either (a fresh
+    textile.composite.matrix_mesh does not import gmsh either (a fresh
     interpreter, so nothing another test imported counts)."""
     run = subprocess.run([sys.executable, "-c", LAZY_SCRIPT, str(tmp_path)], capture_output=True,
                          text=True, cwd=ROOT, timeout=300)

@@ -22,7 +22,7 @@ import textile
 from textile.block_nodes import BlockNodes
 from textile.effects.elastic_block import ElasticBlock
 from textile.effects.fibre_matrix_junction import FibreMatrixJunctions
-from textile.matrix_mesh import box_mesh
+from textile.composite.matrix_mesh import box_mesh
 from tests.finite_differences import assembled_tangent_and_differences
 
 L, W, H = 1.0, 0.4, 0.4           # m

@@ -148,7 +148,7 @@ def woven_mono(tmp_path_factory):
 def mono_fabric():
     import textile
     from textile.fabric import Fabric
-    from textile.yarn import Yarn
+    from textile.fabric import Yarn
     yarn = Yarn(1, 0.1e-3, textile.Material(5.0e9, 0.35), packing="layers 1")
     # the default free length, half a spacing: the picture frame's 0.5 spacings
     return Fabric(yarn, num_warp=2, num_weft=2, spacing=6 * yarn.width, pattern="plain",
@@ -157,7 +157,7 @@ def mono_fabric():
 
 def test_plain_weave_scene_is_the_api_weave(woven_mono):
     """The woven figures are Weaving(...).run()'s on the same fabric."""
-    from textile.weaving import Weaving
+    from textile.fabric import Weaving
     s = summary(woven_mono)
     assert s["steps"] == 6
     weaving = Weaving(mono_fabric(), steps=5, tension=1e-4)

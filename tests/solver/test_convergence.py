@@ -4,7 +4,7 @@ import pytest
 from mpi4py import MPI
 
 import textile
-from textile.convergence import EPS
+from textile.solver.convergence import EPS
 from textile.effects import Effect
 
 E, NU, R, L = 1.0e9, 0.3, 1e-3, 0.5

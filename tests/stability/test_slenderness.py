@@ -28,7 +28,7 @@ NU, L, LOAD, ELEMENTS = 0.3, 0.5, 1.39, 32
 
 def critical_load(young: float, slenderness: float) -> float:
     """P_cr of the discrete clamped-free column: Euler's pi^2 E I / (4 L^2)
-    lowered by shear, 1 - 2.2 (R/L)^2 (fitted to textile.analysis.
+    lowered by shear, 1 - 2.2 (R/L)^2 (fitted to textile.stability.buckling.
     linear_buckling: 0.97799 at L/R = 10, 0.99978 at 100)."""
     R = L / slenderness
     return np.pi ** 2 * young * np.pi * R ** 4 / 4 / (4 * L ** 2) * (1 - 2.2 / slenderness ** 2)

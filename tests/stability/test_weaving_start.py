@@ -7,10 +7,7 @@ import pytest
 from mpi4py import MPI
 
 import textile
-from textile import fabric_measures as fm
-from textile.fabric import Fabric
-from textile.weaving import Weaving
-from textile.yarn import Yarn
+from textile.fabric import Fabric, Weaving, Yarn, measures as fm
 
 from . import guard
 

@@ -3,8 +3,8 @@
 A fibre whose sections nothing holds against spinning about its axis has a
 singular tangent: its round-off pivot takes either sign. The stability
 check finds such motions among each fibre's strain-free candidates
-(textile.zero_motions) and leaves their pivots out of the count
-(textile.stability: k - pos(Y^T F^-1 Y) of them are negative), so that the
+(textile.stability.zero_motions) and leaves their pivots out of the count
+(textile.stability.inertia: k - pos(Y^T F^-1 Y) of them are negative), so that the
 genuine negative eigenvalues of a buckling column are counted exactly,
 whatever sign the spin's pivot took.
 """
@@ -15,9 +15,9 @@ import pytest
 from mpi4py import MPI
 
 import textile
-from textile.convergence import EPS
+from textile.solver.convergence import EPS
 from textile.solver import StabilityWarning
-from textile.zero_motions import ZERO_MOTION_TOLERANCE, candidate_energies
+from textile.stability.zero_motions import ZERO_MOTION_TOLERANCE, candidate_energies
 
 from . import guard
 

@@ -17,7 +17,7 @@ from mpi4py import MPI
 
 import textile
 from textile.virtual_tests import Bending, Twisting, plate_references
-from textile.weaving import Weaving
+from textile.fabric import Weaving
 
 from tests.woven_states import plain_weave
 from tests.stability import guard

@@ -21,7 +21,7 @@ from mpi4py import MPI
 
 import textile
 from textile.virtual_tests import Bending, Tension
-from textile.weaving import Weaving
+from textile.fabric import Weaving
 
 from tests.virtual.crimped_yarn import CrimpedYarn
 from tests.woven_states import plain_weave

@@ -177,7 +177,7 @@ def test_ranks_share_the_crossings(woven_mpi):
     fibres of two ranks: each rank evaluates half of them (evaluated_here in
     contact_set.h; all of them fell to rank 0 before), and together all of
     the saved elements, each once."""
-    from textile.sample import Sample
+    from textile.fabric import Sample
     comm = MPI.COMM_WORLD
     sample = Sample(fabric(), woven_mpi, comm=comm)
     sample.model.setup()

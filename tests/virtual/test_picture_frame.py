@@ -19,11 +19,9 @@ import pytest
 from mpi4py import MPI
 
 import textile
-from textile.fabric import Fabric
+from textile.fabric import Fabric, Weaving, Yarn
 from textile.virtual_tests import PictureFrame
 from textile.virtual_tests.virtual_test import IncompleteTest
-from textile.weaving import Weaving
-from textile.yarn import Yarn
 
 from tests.woven_states import plain_weave, woven_once
 

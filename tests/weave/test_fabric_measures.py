@@ -5,9 +5,7 @@ import scipy.integrate
 from mpi4py import MPI
 
 import textile
-from textile import fabric_measures as fm
-from textile.fabric import Fabric
-from textile.yarn import Yarn
+from textile.fabric import Fabric, Yarn, measures as fm
 
 MAT = textile.Material(1.0e9, 0.3)
 R = 1e-3

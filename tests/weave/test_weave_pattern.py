@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from textile.weave_pattern import WeavePattern
+from textile.fabric import WeavePattern
 
 
 def test_plain_and_its_tiling():

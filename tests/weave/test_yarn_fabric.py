@@ -6,9 +6,9 @@ import pytest
 from mpi4py import MPI
 
 import textile
-from textile.fabric import Fabric, interpolated_section_scale
-from textile.weaving import Weaving
-from textile.yarn import Yarn, helix_distances, round_rings
+from textile.fabric import Fabric, Weaving
+from textile.fabric.fabric import interpolated_section_scale
+from textile.fabric.yarn import Yarn, helix_distances, round_rings
 
 MAT = textile.Material(1.0e9, 0.3)
 R = 1e-3
@@ -174,7 +174,7 @@ def test_bundles_have_friction_within_the_yarn():
     (a frictionless stack is unstable, Yarn docstring) or twisted, the
     contact's (None) for a single row or a monofilament; the weaving's
     contact takes each yarn's."""
-    from textile.yarn import BUNDLE_FRICTION
+    from textile.fabric.yarn import BUNDLE_FRICTION
     assert Yarn(7, R, MAT, packing="hexagonal").friction == BUNDLE_FRICTION
     assert Yarn(28, R, MAT, packing="round").friction == BUNDLE_FRICTION
     assert Yarn(14, R, MAT, packing="layers 2").friction == BUNDLE_FRICTION

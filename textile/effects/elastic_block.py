@@ -27,7 +27,7 @@ energy is evaluated, and the 10 nodes, where the quadratic J can go
 negative first); all cells at once in compiled code.
 
 Every dolfinx call of the matrix side is in this module (and in
-:mod:`textile.matrix_mesh`), so a port to a newer dolfinx touches only them.
+:mod:`textile.composite.matrix_mesh`), so a port to a newer dolfinx touches only them.
 """
 from __future__ import annotations
 
@@ -44,7 +44,7 @@ from mpi4py import MPI
 
 from .. import _cpp
 from ..layout import Field
-from ..matrix_mesh import MatrixMesh
+from ..composite.matrix_mesh import MatrixMesh
 from .base import Effect, State
 
 LAWS = ("neo-hookean", "svk")
@@ -82,9 +82,9 @@ class ElasticBlock(Effect):
     Parameters
     ----------
     mesh:
-        A :class:`textile.matrix_mesh.MatrixMesh` (mesh with named sides,
-        e.g. from :func:`~textile.matrix_mesh.gmsh_box`) or a plain dolfinx
-        tetrahedral mesh in 3D (e.g. :func:`~textile.matrix_mesh.box_mesh`),
+        A :class:`textile.composite.matrix_mesh.MatrixMesh` (mesh with named sides,
+        e.g. from :func:`~textile.composite.matrix_mesh.gmsh_box`) or a plain dolfinx
+        tetrahedral mesh in 3D (e.g. :func:`~textile.composite.matrix_mesh.box_mesh`),
         on the model's communicator, first-order (affine) cells.
     young, poisson:
         Young's modulus E > 0 and Poisson ratio nu in (-1, 0.5).
@@ -234,7 +234,7 @@ class ElasticBlock(Effect):
                                  f"or a callable x -> bool array, got {where!r}")
             if self.facet_tags is None or not self.sides:
                 raise ValueError(f"ElasticBlock {what}: the mesh has no named sides (use a "
-                                 f"MatrixMesh from textile.matrix_mesh, or a marker)")
+                                 f"MatrixMesh from textile.composite, or a marker)")
             unknown = [n for n in names if n not in self.sides]
             if unknown:
                 raise ValueError(f"ElasticBlock {what}: unknown side(s) {unknown}; the mesh has "

@@ -2,8 +2,8 @@
 
 Each step raises the load factor t (loads and prescribed displacements
 scale with it), predicts the new state, and runs Newton (SNES ``newtonls``)
-with a direct solver (:mod:`textile.linear_solver`). Convergence is tested
-per group of unknowns, each on its own scale (:mod:`textile.convergence`).
+with a direct solver (:mod:`textile.solver.linear_solver`). Convergence is tested
+per group of unknowns, each on its own scale (:mod:`textile.solver.convergence`).
 
 A step attempt fails when Newton does not converge (too many iterations, a
 failed linear solve), when the residual is not finite, when an iterate
@@ -30,24 +30,29 @@ The parts, each a module of this package:
 - :mod:`.stages`: stages one after another and resumed runs,
   :class:`~.stages.Stages`.
 
+The numerics they use: :mod:`.convergence` (the per-group convergence
+test) and :mod:`.linear_solver` (the direct solver, MUMPS LU or LDL^T, and
+PETSc's event counts), modules of this package; the stability check's
+inertia, critical modes and zero-energy motions in :mod:`textile.stability`.
+
 :class:`Solver` composes them.
 """
 from __future__ import annotations
 
 import warnings
+from typing import TYPE_CHECKING
 
 from petsc4py import PETSc
 
 from .. import _cpp  # noqa: F401 (re-exported: textile.solver's names as before the split)
-from ..convergence import GroupTolerances  # noqa: F401
-from ..linear_solver import LinearSolver, event_counts  # noqa: F401
 from ..loading import Stage  # noqa: F401
-from ..model import Model
 from ..options import Options  # noqa: F401
-from ..stability import (Inertia, critical_modes, factor_negative_pivots,  # noqa: F401
-                         zero_motion_pivots)
-from ..zero_motions import describe, zero_energy_motions  # noqa: F401
+from ..stability.inertia import (Inertia, critical_modes, factor_negative_pivots,  # noqa: F401
+                                 zero_motion_pivots)
+from ..stability.zero_motions import describe, zero_energy_motions  # noqa: F401
 from .contact_loop import ContactLoop
+from .convergence import GroupTolerances  # noqa: F401
+from .linear_solver import LinearSolver, event_counts  # noqa: F401
 from .newton import (CYCLE_ITERATIONS, CYCLE_PERIOD, CYCLE_TOLERANCE,  # noqa: F401
                      Newton, NewtonResult, _forget_options, cycling, new_counts)
 from .options import (_OWN_REASONS, DIVERGED_EFFECTS_UNSETTLED,  # noqa: F401
@@ -56,6 +61,9 @@ from .options import (_OWN_REASONS, DIVERGED_EFFECTS_UNSETTLED,  # noqa: F401
 from .stability_check import StabilityCheck, max_op  # noqa: F401
 from .stages import STAGE_OPTIONS, Stages
 from .stepping import StepControl, Stepping  # noqa: F401
+
+if TYPE_CHECKING:  # the model imports .convergence, so this package, first
+    from ..model import Model
 
 
 class Solver:
@@ -125,7 +133,7 @@ class Solver:
 
     @property
     def linear(self):
-        """The Newton solver's :class:`~textile.linear_solver.LinearSolver`."""
+        """The Newton solver's :class:`~textile.solver.linear_solver.LinearSolver`."""
         return self.newton.linear
 
     @property

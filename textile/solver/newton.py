@@ -1,6 +1,6 @@
 """One Newton solve: SNES ``newtonls`` over the model's monolithic system,
-its linear solver (:mod:`textile.linear_solver`), the per-group convergence
-test (:mod:`textile.convergence`) and cycle detection.
+its linear solver (:mod:`textile.solver.linear_solver`), the per-group convergence
+test (:mod:`textile.solver.convergence`) and cycle detection.
 
 :class:`Newton` solves the model at its current load factor from the
 current iterate, nothing else: no prediction, no effects' updates, no step
@@ -16,8 +16,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from petsc4py import PETSc
 
-from ..convergence import GroupTolerances
-from ..linear_solver import LinearSolver
+from .convergence import GroupTolerances
+from .linear_solver import LinearSolver
 from .options import DIVERGED_NEWTON_CYCLE, SolverOptions, say
 
 #: A Newton solve whose residual norm repeats itself with a period of 1 to
@@ -139,7 +139,7 @@ class Newton:
         self.linear.refresh(snes)
 
     def _converged(self, snes, it, norms):
-        """Per-group residual test (textile.convergence) or a negligible
+        """Per-group residual test (textile.solver.convergence) or a negligible
         Newton update; domain errors and non-finite residuals stop SNES."""
         m, o = self.model, self.options
         xnorm, ynorm, fnorm = norms

@@ -56,7 +56,7 @@ class SolverOptions(Options):
     rtol, atol, floor_factor, stol, max_it:
         Newton convergence, tested per group of unknowns (fibre positions,
         fibre section vectors, each other field, constrained rows; see
-        :mod:`textile.convergence`): a group has converged when its residual
+        :mod:`textile.solver.convergence`): a group has converged when its residual
         norm is below rtol times its value at the start of the Newton solve,
         or below floor_factor * eps * |(|K||q|)_group| (its round-off floor),
         or below atol times its force scale (the largest fibre E*A; times the
@@ -96,7 +96,7 @@ class SolverOptions(Options):
     reuse_factorization:
         1: factorize the tangent every Newton iteration. n > 1: keep a
         factorization for up to n iterations as the preconditioner of GMRES
-        on the exact tangent (see :mod:`textile.linear_solver`).
+        on the exact tangent (see :mod:`textile.solver.linear_solver`).
     krylov_rtol, krylov_max_it:
         GMRES tolerance and iteration limit when a factorization is reused
         or approximate.
@@ -111,7 +111,7 @@ class SolverOptions(Options):
         "auto": after every converged step, count the negative eigenvalues of
         the tangent from the Newton solver's LDL^T factorization (its
         negative pivots, less those of zero-energy motions: a fibre's
-        sections free to spin, ...; see :mod:`textile.stability`); checked
+        sections free to spin, ...; see :mod:`textile.stability.inertia`); checked
         when the scene's tangent is symmetric, not otherwise. Recorded per
         step (``StepRecord.stability``, results.json) with a warning the
         first time stability is lost. "off": no check.
@@ -200,12 +200,12 @@ class StepRecord:
     energy: float
     updates: int = 1
     effects: dict = field(default_factory=dict)
-    #: per group: residual norm at convergence (see textile.convergence)
+    #: per group: residual norm at convergence (see textile.solver.convergence)
     residuals: dict = field(default_factory=dict)
     #: negative eigenvalues of the tangent (None: not checked), the
     #: factorization's negative pivots and the zero-energy motions told
     #: apart from them (None: not searched, no negative pivot), and whether
-    #: the step was moved to another branch (textile.stability)
+    #: the step was moved to another branch (textile.stability.inertia)
     stability: dict = field(default_factory=dict)
     #: the stage this step belongs to, and the run's time (stage number +
     #: the stage's load factor: continuous over stages)

@@ -2,8 +2,8 @@
 (negative eigenvalues of the tangent from the Newton factorization, less
 the multipliers' and the zero-energy motions'), branch switching along
 the critical modes (SLEPc) and the signs of a limit point (current
-stiffness parameter). The numerics are :mod:`textile.stability` and
-:mod:`textile.zero_motions`; this module decides when to use them.
+stiffness parameter). The numerics are :mod:`textile.stability.inertia` and
+:mod:`textile.stability.zero_motions`; this module decides when to use them.
 """
 from __future__ import annotations
 
@@ -13,8 +13,9 @@ import warnings
 import numpy as np
 from petsc4py import PETSc
 
-from ..stability import Inertia, critical_modes, factor_negative_pivots, zero_motion_pivots
-from ..zero_motions import describe, zero_energy_motions
+from ..stability.inertia import (Inertia, critical_modes, factor_negative_pivots,
+                                 zero_motion_pivots)
+from ..stability.zero_motions import describe, zero_energy_motions
 from .contact_loop import ContactLoop
 from .options import StabilityWarning, say
 
@@ -57,7 +58,7 @@ class StabilityCheck:
 
     def inertia(self) -> Inertia:
         """Negative eigenvalues of the tangent at the converged state, from
-        the Newton factorization (textile.stability): its negative pivots,
+        the Newton factorization (textile.stability.inertia): its negative pivots,
         less the multipliers' and the zero-energy motions'."""
         if self.options.stability_check == "off":
             return Inertia(None)

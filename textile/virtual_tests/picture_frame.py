@@ -52,7 +52,7 @@ frame's.
 
 Pins (``pin``): with "fibre" (the default) the four side bodies pin every
 fibre end of their side: the ends turn freely about z but do not spin
-about their own axis (:class:`~textile.sample.Sample`: a round fibre pinned
+about their own axis (:class:`~textile.fabric.sample.Sample`: a round fibre pinned
 at both ends would otherwise have a zero-stiffness spin). Each fibre of a
 yarn of several fibres then gets its own pin on the arm: as the arm turns
 against the yarn, those pins (a fibre diameter apart along the arm) come

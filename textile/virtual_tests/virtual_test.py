@@ -18,12 +18,12 @@ from dataclasses import dataclass, field
 import numpy as np
 from mpi4py import MPI
 
-from ..composite import Composite
-from ..fibre_loads import FIGURES, fibre_loads, ranked_table
-from ..fabric import Fabric
+from ..composite.composite import Composite
+from ..beam.fibre_loads import FIGURES, fibre_loads, ranked_table
+from ..fabric.fabric import Fabric
 from ..loading import Stage
-from ..material import Material
-from ..sample import Sample
+from ..beam.material import Material
+from ..fabric.sample import Sample
 from ..solver import ConvergenceError, Solver
 from .load_curve import LoadCurve
 
@@ -57,7 +57,7 @@ class VirtualTestResult:
     figures: dict = field(default_factory=dict)
     wall_seconds: float = 0.0
     counters: dict = field(default_factory=dict)
-    #: per fibre at the last step (:func:`textile.fibre_loads.fibre_loads`)
+    #: per fibre at the last step (:func:`textile.beam.fibre_loads.fibre_loads`)
     fibre_loads: dict = field(default_factory=dict)
     #: each fibre's yarn, for tables
     fibre_yarn: np.ndarray | None = None
@@ -134,7 +134,7 @@ class VirtualTest:
     steps:
         Load steps of the loading stage.
     matrix:
-        None (the fabric alone) or the matrix :class:`~textile.material.Material`
+        None (the fabric alone) or the matrix :class:`~textile.beam.material.Material`
         (a :class:`~textile.composite.Composite`); ``composite`` holds more
         of its options (size, degree, ...).
     contact:
@@ -226,7 +226,7 @@ class VirtualTest:
     # -- shared ----------------------------------------------------------------
     def balance(self) -> tuple[float, float]:
         """(force imbalance, moment imbalance) of the loads on the sample
-        (:meth:`~textile.sample.Sample.reaction_balance`): |sum of the
+        (:meth:`~textile.fabric.sample.Sample.reaction_balance`): |sum of the
         forces| over the largest body force, and |sum of the moments about
         the origin| over the largest body moment about the origin (forces
         at the body centres included). The forces balance to the Newton

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 from petsc4py import PETSc
 
-from . import _cpp
+from .. import _cpp
 
 #: PETSc log events counted by the solver (name in PETSc -> our label).
 _EVENTS = {"MatLUFactorNum": "lu_factorizations", "MatCholFctrNum": "ldlt_factorizations",

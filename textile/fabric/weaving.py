@@ -34,18 +34,18 @@ import numbers
 import numpy as np
 from mpi4py import MPI
 
-from . import fabric_measures
-from .effects.fibre_contact import FibreContact
-from .effects.weaving_contact import weaving_mode
+from . import measures
+from ..effects.fibre_contact import FibreContact
+from ..effects.weaving_contact import weaving_mode
 from .fabric import Fabric
-from .io import fabric_labels
-from .io.state_file import save_state
-from .loading import Stage
-from .log import get_logger
-from .model import Model
-from .output import Output
-from .rigid_body import RigidBody
-from .solver import Solver
+from ..io import fabric_labels
+from ..io.state_file import save_state
+from ..loading import Stage
+from ..log import get_logger
+from ..model import Model
+from ..output import Output
+from ..rigid_body import RigidBody
+from ..solver import Solver
 
 
 def _count(value, name: str, low: int = 1) -> int:
@@ -72,7 +72,7 @@ class Weaving:
     contact:
         :class:`~textile.effects.fibre_contact.ContactOptions` or a dict.
     element:
-        :class:`~textile.element.BeamElement` of the fibres (default: the
+        :class:`~textile.beam.element.BeamElement` of the fibres (default: the
         model's).
     comm:
         MPI communicator.
@@ -125,7 +125,7 @@ class Weaving:
         """An :class:`~textile.output.Output` that also writes each fibre's
         yarn and the fabric's figures (crimp, shrinkage, ...) every step."""
         return Output(directory, **fabric_labels(self.fabric),
-                      extra=lambda model: fabric_measures.summary(self.fabric, model), **options)
+                      extra=lambda model: measures.summary(self.fabric, model), **options)
 
     def run(self, output: Output | None = None, solver_options=None) -> Solver:
         """Weave: run both stages; returns the solver (its ``history`` holds
@@ -137,10 +137,10 @@ class Weaving:
 
     def summary(self) -> dict:
         """Crimp, shrinkage, section shapes and curvatures of the current
-        state (:func:`textile.fabric_measures.summary`), the crossing order
+        state (:func:`textile.fabric.measures.summary`), the crossing order
         check and the contact figures."""
-        out = fabric_measures.summary(self.fabric, self.model)
-        sep = fabric_measures.crossing_separation(self.fabric, self.model)
+        out = measures.summary(self.fabric, self.model)
+        sep = measures.crossing_separation(self.fabric, self.model)
         out["min crossing separation"] = float(sep.min())
         out["crossings in pattern order"] = int(np.count_nonzero(sep > 0))
         out["crossings"] = int(sep.size)

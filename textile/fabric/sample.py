@@ -41,15 +41,15 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from . import fabric_measures
-from .effects.fibre_contact import ContactOptions, FibreContact
+from . import measures
+from ..effects.fibre_contact import ContactOptions, FibreContact
 from .fabric import Fabric
-from .io import fabric_labels
-from .io.state_file import load_fibres, saved_configuration
-from .loading import Stage
-from .model import Model
-from .output import Output
-from .rigid_body import RigidBody
+from ..io import fabric_labels
+from ..io.state_file import load_fibres, saved_configuration
+from ..loading import Stage
+from ..model import Model
+from ..output import Output
+from ..rigid_body import RigidBody
 
 #: The sides a body can drive, with the yarn direction ending there and which end.
 SIDES = {"xmin": ("warp", 0), "xmax": ("warp", -1), "ymin": ("weft", 0), "ymax": ("weft", -1)}
@@ -311,7 +311,7 @@ class Sample:
         """An :class:`~textile.output.Output` writing fibres (with their yarn)
         (and the matrix) every step, and the fabric's figures."""
         return Output(directory, **fabric_labels(self.fabric),
-                      extra=lambda model: fabric_measures.summary(self.fabric, model), **options)
+                      extra=lambda model: measures.summary(self.fabric, model), **options)
 
     def side_reaction(self, side: str) -> np.ndarray:
         """(6,) force and moment the side's body (or its yarn bodies

@@ -56,8 +56,8 @@ import scipy.sparse
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from . import _cpp
-from .convergence import EPS
+from .. import _cpp
+from ..solver.convergence import EPS
 
 #: A Ritz vector of a fibre's candidates is a zero-energy motion when its
 #: energy (module docstring: relative to the round-off scale of y^T K y)

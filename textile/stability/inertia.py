@@ -15,7 +15,7 @@ no new factorization, only solves with F.
   factorization is of the exact tangent at the converged state or at the
   last Newton iterate but one, within the solver tolerance of it.
 - **Zero-energy motions.** A motion nothing resists (a fibre's sections
-  free to spin, :mod:`textile.zero_motions`) is a null vector of K: its
+  free to spin, :mod:`textile.stability.zero_motions`) is a null vector of K: its
   pivot is round-off of either sign. With Y the k zero-energy motions found
   (full column rank), the negative eigenvalues of K on the complement of Y,
   its genuine ones, number
@@ -56,7 +56,7 @@ class Inertia:
     """Eigenvalue signs of the tangent (None where not known): genuine
     negative eigenvalues; the factorization's negative pivots (less the
     multipliers'); the zero-energy motions left out of them
-    (:class:`textile.zero_motions.ZeroMotion`; None: not searched, as
+    (:class:`textile.stability.zero_motions.ZeroMotion`; None: not searched, as
     there was no negative pivot they could account for)."""
 
     negative: int | None

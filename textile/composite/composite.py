@@ -7,7 +7,7 @@ The scene:
   run saved (``woven``: :func:`textile.save_state`), so they keep their
   crimp and their pre-stress; or straight if no state is given;
 - fibre-fibre contact, with the saved contact history;
-- the matrix: a gmsh box around the woven fibres (:mod:`textile.matrix_mesh`),
+- the matrix: a gmsh box around the woven fibres (:mod:`textile.composite.matrix_mesh`),
   through the thickness enclosing every fibre under a thin skin
   (``overlap``), in the plane the bounding box of the fibres' centre lines,
   so the yarn ends lie on its sides; meshed with tetrahedra of size ``size``
@@ -34,13 +34,13 @@ import numbers
 import numpy as np
 from mpi4py import MPI
 
-from .block_nodes import BlockNodes
-from .effects.elastic_block import DEGREES, LAWS, ElasticBlock
-from .effects.fibre_matrix_junction import FibreMatrixJunctions
-from .fabric import Fabric
-from .material import Material
+from ..beam.material import Material
+from ..block_nodes import BlockNodes
+from ..effects.elastic_block import DEGREES, LAWS, ElasticBlock
+from ..effects.fibre_matrix_junction import FibreMatrixJunctions
+from ..fabric.fabric import Fabric
+from ..fabric.sample import SIDES, Sample  # noqa: F401  (SIDES: re-exported)
 from .matrix_mesh import gmsh_box
-from .sample import SIDES, Sample  # noqa: F401  (SIDES: re-exported)
 
 
 def woven_box(configuration: np.ndarray, radius: np.ndarray, overlap: float):
@@ -57,14 +57,14 @@ def woven_box(configuration: np.ndarray, radius: np.ndarray, overlap: float):
 
 class Composite(Sample):
     """A fabric in a matrix, with side bodies (module docstring); the
-    fabric-only scene, its stages and results are :class:`~textile.sample.Sample`'s.
+    fabric-only scene, its stages and results are :class:`~textile.fabric.sample.Sample`'s.
 
     Parameters
     ----------
     fabric, woven, contact, comm:
-        As :class:`~textile.sample.Sample`'s.
+        As :class:`~textile.fabric.sample.Sample`'s.
     matrix:
-        The matrix's :class:`~textile.material.Material` (Young's modulus,
+        The matrix's :class:`~textile.beam.material.Material` (Young's modulus,
         Poisson ratio).
     size:
         Target edge length of the matrix tetrahedra (default four fibre

@@ -5,7 +5,7 @@ points up. Warp yarn j lies at y_j = (j - (n_warp - 1)/2) p_warp, weft yarn
 i at x_i = (i - (n_weft - 1)/2) p_weft (p: the spacing between yarns of a
 direction). Each yarn extends ``free_length`` beyond the last yarn it
 crosses. The crossing order is the pattern tiled over the yarns
-(:mod:`textile.weave_pattern`): ``order[i, j] = 1`` when warp j passes over
+(:mod:`textile.fabric.weave_pattern`): ``order[i, j] = 1`` when warp j passes over
 weft i.
 
 The starting state (docs/method.md §6.1): every yarn straight, all yarn axes
@@ -38,7 +38,7 @@ element turning by 2 phi (phi = pi / N), with x in [-1, 1]:
 
 The fabric refuses a twisted yarn whose fibres come closer than 2 R once
 its section is shrunk by that minimum (the helix distances of
-:func:`~textile.yarn.helix_distances`: exact in every section, an estimate
+:func:`~textile.fabric.yarn.helix_distances`: exact in every section, an estimate
 between them) and one whose node interval turns by pi or more (the nodes
 would describe the opposite hand, or no twist at all). E.g. 10 elements a
 turn shrink the section to cos(18 deg) = 0.9511 (order 1: radial
@@ -51,7 +51,7 @@ import numbers
 
 import numpy as np
 
-from .fibre import Fibre
+from ..beam.fibre import Fibre
 from .weave_pattern import WeavePattern
 from .yarn import ROUND_OFF, Yarn, helix_distances
 
@@ -79,7 +79,7 @@ class Fabric:
     Parameters
     ----------
     warp, weft:
-        :class:`~textile.yarn.Yarn` of each direction (weft defaults to the
+        :class:`~textile.fabric.Yarn` of each direction (weft defaults to the
         warp's).
     num_warp, num_weft:
         Yarn counts (>= 1; the last repeat may be cut, as long as every
@@ -88,7 +88,7 @@ class Fabric:
         Distance between neighbouring yarns (length): one number, or
         (warp spacing, weft spacing).
     pattern:
-        A :class:`~textile.weave_pattern.WeavePattern`, a name ("plain",
+        A :class:`~textile.fabric.weave_pattern.WeavePattern`, a name ("plain",
         "twill 2/2", ...) or a 0/1 matrix.
     free_length:
         Yarn length beyond the last crossing (default: half the spacing).
@@ -106,7 +106,7 @@ class Fabric:
         weft = warp if weft is None else weft
         for name, y in (("warp", warp), ("weft", weft)):
             if not isinstance(y, Yarn):
-                raise TypeError(f"Fabric: {name} must be a textile.yarn.Yarn, got "
+                raise TypeError(f"Fabric: {name} must be a textile.fabric.Yarn, got "
                                 f"{type(y).__name__}")
         for name, n in (("num_warp", num_warp), ("num_weft", num_weft)):
             if isinstance(n, bool) or not isinstance(n, numbers.Integral) or n < 1:

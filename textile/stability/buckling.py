@@ -9,8 +9,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from .model import Model
-from .solver import Solver
+from ..model import Model
+from ..solver import Solver
 
 
 def dense_tangent(model: Model) -> tuple[np.ndarray | None, np.ndarray | None]:

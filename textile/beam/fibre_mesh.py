@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .dolfinx_core import load as _load_core
+from ..dolfinx_core import load as _load_core
 from .fibre import Fibre
 
 _cpp = _load_core()   # dolfinx's compiled core alone (textile.dolfinx_core)

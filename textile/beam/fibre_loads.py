@@ -33,7 +33,7 @@ same result on every rank); :func:`ranked_table` prints the most loaded
 fibres. :class:`~textile.Output` writes the per-element figures and the
 per-fibre maxima to ParaView and the top fibres of each step to
 results.json. :func:`node_curvatures` is the one implementation of the
-centre-line curvature (:func:`textile.fabric_measures.fibre_curvatures`
+centre-line curvature (:func:`textile.fabric.measures.fibre_curvatures`
 uses it).
 """
 from __future__ import annotations

@@ -81,7 +81,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .material import Material
+from ..beam.material import Material
 
 ROUND_OFF = 1e-9
 """Relative round-off below which two fibres count as touching, not

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .fibre_loads import node_curvatures
+from ..beam.fibre_loads import node_curvatures
 
 
 def _fibres_of(fabric, yarn: int) -> np.ndarray:
@@ -108,7 +108,7 @@ def crossing_separation(fabric, model) -> np.ndarray:
 
 def fibre_curvatures(model) -> np.ndarray:
     """(nodes,) curvature of the fibres' centre lines at their inner nodes
-    (0 at fibre ends): :func:`textile.fibre_loads.node_curvatures`."""
+    (0 at fibre ends): :func:`textile.beam.fibre_loads.node_curvatures`."""
     return node_curvatures(model.mesh.first_node, model.nodal_unknowns()[:, 0:3])
 
 
