@@ -4,8 +4,8 @@
 // choices have no exact answer: when two fibres count as crossing or lying
 // along each other, how near a node a point snaps to it, how far a kept
 // element may drift. Each lives here, with what it decides, its unit, and
-// the test that pins it (a value changed so that the test fails is the
-// reason for the value); "no test pins it" marks a gap to close.
+// the test that pins it: the test that failed when the value was changed
+// as said (2026-12-01); "no test pins it" marks a gap to close.
 #pragma once
 
 namespace textile::contact
@@ -17,24 +17,26 @@ namespace textile::contact
 /// intermediate_geometry.h): a zone that was a crossing stays one down to
 /// (1 - bias) parallel_angle, a line contact becomes a crossing only above
 /// (1 + bias). Pinned by cpp/tests/test_zone_kind.cpp and
-/// tests/contact/test_penalty_units.py (a zone flipping kind every pass).
+/// tests/contact/test_penalty_units.py (both fail at 0: no hysteresis).
 inline constexpr double crossing_bias = 0.25;
 
 /// Out-of-plane separation of the centre lines, in units of r_i + r_j,
 /// from which two fibres at an angle lie on each other (crossing normal)
-/// rather than side by side in one plane (contact_normal.h). Pinned by
-/// tests/contact/test_coplanar_fibres.py (coplanar fibres read a false
-/// penetration of 2 R along t_i x t_j without it).
+/// rather than side by side in one plane (contact_normal.h). Pinned from
+/// above by tests/contact/test_capstan.py (at 3 the frictionless wrap
+/// fails); from below no test pins it (at 0.05 every contact and weaving
+/// test passes).
 inline constexpr double crossing_separation = 0.5;
 
 /// Width of a wrap's contact region above the closest distance, in units of
 /// r_i + r_j (wrapping_fibre, wrap_contact.h). Pinned by
-/// cpp/tests/test_contact_wrap.cpp and tests/contact/test_capstan.py.
+/// cpp/tests/test_contact_wrap.cpp (fails at 0.5).
 inline constexpr double wrap_band = 0.05;
 
 /// |cos| of the angle between a centroid gap and a fibre's axis above which
 /// the point faces the fibre's end (an end cap, excluded): within about 8
-/// degrees. Pinned by tests/contact/test_effect_switches.py (end caps).
+/// degrees. Pinned by tests/contact/test_stacked_fibres.py (at 0.5 the
+/// stacked yarns no longer settle within each step).
 inline constexpr double end_cap_cosine = 0.99;
 
 // -- where a crossing's element sits -------------------------------------------
@@ -54,20 +56,20 @@ inline constexpr double kink_angle = 1e-3;
 /// normal turned so fast with the crossing's place that the passes
 /// oscillated (a picture frame of monofilaments 4 widths apart stopped at
 /// 23 deg; it reaches 28 deg with half an element, as without blending).
-/// Pinned by tests/virtual/test_picture_frame.py.
+/// Pinned by tests/virtual/test_picture_frame.py (fails at 0.25).
 inline constexpr double kink_blend = 0.5;
 
 /// Widest half-width (element lengths) of the window over which a
 /// two-element patch is smoothed across its shared node: the same spread
 /// of a kink as kink_blend. Pinned by cpp/tests/test_gap_function.cpp
-/// (ContactPatch: smooth and exact across a kinked node).
+/// (ContactPatch fails at 0.1).
 inline constexpr double patch_smoothing = kink_blend;
 
 /// Smallest |sin| of the angle between the two centre lines' projections on
 /// the plane normal to N for which they face each other at one point
 /// (gap_function.h, facing; below it the gap is measured at the particles,
 /// as held). Also the bound of vertical_crossing's placement. Pinned by
-/// cpp/tests/test_gap_function.cpp (FacingBetweenParallelCentreLines...).
+/// cpp/tests/test_gap_function.cpp (fails at 0.6).
 inline constexpr double facing_min_sine = 0.1;
 
 /// |cos| between a new normal and the previous one below which the
@@ -96,15 +98,15 @@ inline constexpr int max_section_passes = 8;
 /// Fraction of the search distance beyond which a closed element may be
 /// lost by the next detection (the centre lines' distance is at most its
 /// centroids', so below it a zone is found): such elements are held
-/// (held_contact.h). Pinned by cpp/tests/test_contact_held.cpp and
-/// tests/contact/test_tunnelling.py.
+/// (held_contact.h). Pinned by tests/contact/test_tunnelling.py (at 5,
+/// never held, the indenter pushed through in one step is lost).
 inline constexpr double hold_fraction = 0.9;
 
 /// How far (|u - u0| + |v - v0| in abscissas, element lengths) a line
 /// contact's points may have slid from its pass's particles for it to be
 /// kept within a step (ElementParameters::persist, history_transfer.h): a
 /// fifth of what a fibre sliding over an arc moves in a step. Pinned by
-/// tests/contact/test_frictionless_drag.py.
+/// tests/contact/test_frictionless_drag.py (fails at 1).
 inline constexpr double persist_drift = 0.01;
 
 } // namespace textile::contact
