@@ -43,11 +43,14 @@ inline constexpr double end_cap_cosine = 0.99;
 
 /// Crossings whose closest points lie closer than this (element
 /// coordinates) to a node are placed at the node (snapped,
-/// intermediate_geometry.cpp). No test pins it.
+/// intermediate_geometry.cpp). Pinned by tests/contact/test_crossed_fibres.py
+/// (fails at 0) and tests/contact/test_stacked_fibres.py (fails at 0.2).
 inline constexpr double node_snap = 1e-2;
 
 /// ... and closer than kink_snap to a node where the centre line kinks by
-/// more than kink_angle (radians). No test pins them.
+/// more than kink_angle (radians). kink_snap is pinned by
+/// tests/virtual/test_picture_frame.py (fails at 0); no test pins
+/// kink_angle.
 inline constexpr double kink_snap = 0.1;
 inline constexpr double kink_angle = 1e-3;
 
@@ -75,18 +78,21 @@ inline constexpr double facing_min_sine = 0.1;
 /// |cos| between a new normal and the previous one below which the
 /// previous one says nothing about the side (the normal changed kind, e.g.
 /// from the crossing normal to an in-plane one): the centroid gap orients
-/// it then (contact_normal.cpp). No test pins it.
+/// it then (contact_normal.cpp). No test pins it (at 0.6 the contact,
+/// weaving, stability and virtual-test suites pass).
 inline constexpr double orientation_cosine = 0.1;
 
 // -- line contacts ---------------------------------------------------------------
 
 /// Pieces of a line contact shorter than this fraction of the spacing are
-/// merged into a neighbour (contact_points). No test pins it.
+/// merged into a neighbour (contact_points). No test pins it (at 0.2 the
+/// contact, weaving, stability and virtual-test suites pass).
 inline constexpr double merge_fraction = 1e-3;
 
 /// A line contact's pieces may exceed 2 x spacing by this fraction before
 /// they are cut in two: a zone stretched by a hair keeps its elements
-/// (contact_points). No test pins it.
+/// (contact_points). Pinned by tests/stability/test_contact_sliding.py
+/// (a fibre folded onto itself fails at 0.6).
 inline constexpr double piece_tolerance = 0.1;
 
 /// Passes that re-orient a line contact's section plane (contact_points);
