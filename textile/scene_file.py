@@ -874,8 +874,13 @@ class Scene:
         elif not os.path.exists(woven):
             raise SceneError(f"{self.file}: test.woven: no such file {woven!r}")
         matrix = self.data["matrix"]
+        # without [test.contact] a virtual test's own default friction
+        # (textile.virtual_tests.virtual_test: 0.2 on a fabric alone, 0
+        # with a matrix) under the preset's contact knobs
+        given = test["contact"] if test["contact"] is not None else {
+            "friction": 0.0 if matrix is not None else 0.2}
         options = dict(solver_options=self.solver_options(comm), comm=comm,
-                       contact=self.contact_options(test["contact"]))
+                       contact=self.contact_options(given))
         if matrix is not None:
             radius = max(y.radius for y in (fabric.warp, fabric.weft))
             composite = {k: matrix[k] for k in ("degree", "law", "overlap",
