@@ -91,12 +91,11 @@ def bench():
 @pytest.mark.parametrize("case", ["weave", "composite"])
 def test_preset_errors_within_bounds_and_falling(bench, case):
     """Measured 2026-12-01 (benchmarks/accuracy_cost.md): weave crimp 0.134,
-    0.071, 0.0125; composite stiffness 0.060, 0.028, 0.0118 (draft,
+    0.071, 0.0124; composite stiffness 0.066, 0.028, 0.0086 (draft,
     standard, fine). The bounds (presets.BOUNDS) are about 1.5 times these
-    (the run-to-run spread is nil: deterministic; the margin is for another
-    BLAS or gmsh version); the fall is asked strictly, by at least 1.2x a
-    step (measured 1.9x and 5.7x on the weave, 2.2x and 2.4x on the
-    composite)."""
+    (the runs are deterministic; the margin is for another BLAS or gmsh
+    version); the fall is asked strictly, by at least 1.2x a step (measured
+    1.9x and 5.7x on the weave, 2.3x and 3.3x on the composite)."""
     rows = bench.run_presets(case, say=lambda line: None)
     errors = [rows[name]["error"] for name in presets.names()]
     for name, e in zip(presets.names(), errors):
