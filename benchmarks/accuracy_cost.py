@@ -482,7 +482,7 @@ TITLES = {
     "crossed": "crossed fibres pressed by 0.2 R: |f / f_hard contact - 1|",
     "capstan": "capstan, mu = 0.3, quarter turn: |T2/T1 / exp(mu theta R/(R+r)) - 1|",
     "twisted": "twisted pair, one turn: symmetry error of the contact forces",
-    "weave": "2 x 2 monofilament weave: crimp against the finest run",
+    "weave": "2 x 2 monofilament weave: crimp against its extrapolated reference",
     "composite": "2 x 2 composite bent 6 deg: stiffness / plate formula against the finest run",
 }
 RUNNERS = dict(rollup=rollup, cantilever=cantilever, buckling=buckling, crossed=crossed,

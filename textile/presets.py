@@ -24,7 +24,7 @@ What each preset measured (``benchmarks/accuracy_cost.md``, 2026-12-01,
 one core; errors against references that are not the run itself;
 ``BOUNDS`` holds the bounds the tests hold them to):
 
-- ``draft``: Newton tolerances 1e-6 (5-42% fewer Newton iterations; no
+- ``draft``: Newton tolerances 1e-6 (0-42% fewer Newton iterations; no
   error changed by more than 1.3%: the capstan's 1.006e-4 to 0.993e-4),
   contact update tolerance
   1e-2, 2 elements a crossing, 3 weaving steps, matrix tetrahedra of 12
