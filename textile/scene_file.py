@@ -29,6 +29,7 @@ import math
 import os
 import tomllib
 
+from . import presets
 from .log import get_logger
 
 _log = get_logger(__name__)
@@ -250,8 +251,8 @@ def _schema():
                     "spacing_widths": (number(positive=True), None),
                     "free_length": (number(minimum=0.0), None),
                     "free_length_spacings": (number(minimum=0.0), None),
-                    "elements_per_crossing": (integer(1), 4), "order": (integer(1), 2)})
-    weaving = table({"steps": (integer(1), 5), "relaxation_steps": (integer(1), 1),
+                    "elements_per_crossing": (integer(1), None), "order": (integer(1), 2)})
+    weaving = table({"steps": (integer(1), None), "relaxation_steps": (integer(1), 1),
                      "tension": (number(positive=True), 1e-4), "contact": (contact, None)})
     test_keys = {"type": (string(TEST_TYPES), None), "name": (string(), None),
                  "steps": (integer(1), None), "release_steps": (integer(0), None),
@@ -263,7 +264,7 @@ def _schema():
     test = table(dict(test_keys, woven=(string(), None), contact=(contact, None),
                       cases=(tables(table(test_keys)), None)))
     matrix = table({"material": (string(), REQUIRED), "size": (number(positive=True), None),
-                    "size_radii": (number(positive=True), None), "degree": (integer(1), 2),
+                    "size_radii": (number(positive=True), None), "degree": (integer(1), None),
                     "law": (string(("neo-hookean", "svk")), None),
                     "overlap": (number(minimum=0.0), None),
                     "junction_stiffness": (number(positive=True), None)})
@@ -298,7 +299,7 @@ def _schema():
                     "checkpoint": (string(("none", "stage", "step")), None),
                     "probes": (tables(probe), None)})
     scene = table({"kind": (string(KINDS), REQUIRED), "title": (string(), None),
-                   "preset": (anything_scalar, None)})
+                   "preset": (string(presets.names()), None)})
     return table({"scene": (scene, REQUIRED),
                   "materials": (table({}, extra=material), None),
                   "fabric": (fabric, None), "weaving": (weaving, None),
@@ -413,10 +414,6 @@ def parse(data: dict, reader: _Reader) -> dict:
     """The checked scene: every table of the schema with its defaults."""
     scene = _schema()(reader, data, "")
     kind = scene["scene"]["kind"]
-    if scene["scene"]["preset"] is not None:
-        reader.fail("scene.preset", f"accuracy presets do not exist yet in textile; remove the "
-                                    f"key and set [solver] options instead (got "
-                                    f"{_show(scene['scene']['preset'])})")
     allowed = KIND_TABLES[kind] | COMMON_TABLES
     for key in data:
         if key not in allowed:
@@ -713,10 +710,23 @@ class Scene:
                 return False
         return Context()
 
+    def preset(self) -> dict:
+        """The option blocks of the scene's accuracy preset (``scene.preset``,
+        default "standard": textile's defaults), textile.presets.options."""
+        return presets.options(self.data["scene"]["preset"])
+
     def solver_options(self, comm) -> dict:
-        options = _given(self.data["solver"] or {})
+        options = dict(self.preset()["solver"], **_given(self.data["solver"] or {}))
         options["verbose"] = bool(options.get("verbose", True)) and comm.rank == 0
         return options
+
+    def contact_options(self, given) -> dict:
+        """The preset's contact options with the table ``given`` (or None) winning."""
+        return dict(self.preset()["contact"], **_given(given or {}))
+
+    def element(self):
+        """The fibres' BeamElement: the preset's."""
+        return presets.element(self.data["scene"]["preset"])
 
     # -- the parts ---------------------------------------------------------------
     def materials(self) -> dict:
@@ -748,14 +758,16 @@ class Scene:
         with self._building("fabric"):
             return Fabric(warp, yarns.get("weft_yarn"), num_warp=d["num_warp"],
                           num_weft=d["num_weft"], spacing=spacing, pattern=d["pattern"],
-                          free_length=free, elements_per_crossing=d["elements_per_crossing"],
+                          free_length=free, elements_per_crossing=d["elements_per_crossing"]
+                          or self.preset()["fabric"]["elements_per_crossing"],
                           order=d["order"])
 
     def weaving_options(self) -> dict:
-        w = self.data["weaving"] or {"steps": 5, "relaxation_steps": 1, "tension": 1e-4,
+        w = self.data["weaving"] or {"steps": None, "relaxation_steps": 1, "tension": 1e-4,
                                      "contact": None}
-        return dict(steps=w["steps"], relaxation_steps=w["relaxation_steps"],
-                    tension=w["tension"], contact=_given(w["contact"] or {}) or None)
+        return dict(steps=w["steps"] or self.preset()["weaving"]["steps"],
+                    relaxation_steps=w["relaxation_steps"], tension=w["tension"],
+                    contact=self.contact_options(w["contact"]), element=self.element())
 
     # -- running -----------------------------------------------------------------
     def run(self, output: str | None = None, resume: str | None = None, comm=None) -> dict:
@@ -862,16 +874,20 @@ class Scene:
         elif not os.path.exists(woven):
             raise SceneError(f"{self.file}: test.woven: no such file {woven!r}")
         matrix = self.data["matrix"]
-        options = dict(solver_options=self.solver_options(comm), comm=comm)
-        if test["contact"] is not None:
-            options["contact"] = _given(test["contact"])
+        # without [test.contact] a virtual test's own default friction
+        # (textile.virtual_tests.virtual_test: 0.2 on a fabric alone, 0
+        # with a matrix) under the preset's contact knobs
+        given = test["contact"] if test["contact"] is not None else {
+            "friction": 0.0 if matrix is not None else 0.2}
+        options = dict(solver_options=self.solver_options(comm), comm=comm,
+                       contact=self.contact_options(given))
         if matrix is not None:
             radius = max(y.radius for y in (fabric.warp, fabric.weft))
             composite = {k: matrix[k] for k in ("degree", "law", "overlap",
                                                 "junction_stiffness") if matrix[k] is not None}
-            if matrix["size"] is not None or matrix["size_radii"] is not None:
-                composite["size"] = matrix["size"] if matrix["size"] is not None \
-                    else matrix["size_radii"] * radius
+            composite.setdefault("degree", self.preset()["matrix"]["degree"])
+            composite["size"] = matrix["size"] if matrix["size"] is not None else (
+                matrix["size_radii"] or self.preset()["matrix"]["size_radii"]) * radius
             options.update(matrix=self.materials()[matrix["material"]], composite=composite)
         classes = dict(tension=virtual_tests.Tension, shear=virtual_tests.Shear,
                        bending=virtual_tests.Bending, twisting=virtual_tests.Twisting,
@@ -935,7 +951,7 @@ class Scene:
                                              section_vector=f["section_vector"],
                                              name=f["name"]))
             index[f["name"]] = i
-        model = Model(fibres, comm=comm)
+        model = Model(fibres, element=self.element(), comm=comm)
         handles, effects, bodies = {}, {}, {}
         for i, load in enumerate(d["loads"] or []):
             f = index[load["fibre"]]
@@ -964,7 +980,7 @@ class Scene:
             bodies[b["name"]] = body
         if d["contact"] is not None:
             with self._building("contact"):
-                effects["contact"] = FibreContact(_given(d["contact"]))
+                effects["contact"] = FibreContact(self.contact_options(d["contact"]))
             model.add_effect(effects["contact"])
         if d["drag"] is not None:
             with self._building("drag"):

@@ -33,9 +33,12 @@ THETA = math.pi / 2  # wrap angle
 T = 1e-2 * E * math.pi * r * r  # a strain of 1%
 
 
-def capstan(mu: float, arc_elements: int = 16, leg_elements: int = 8, comm=MPI.COMM_SELF):
+def capstan(mu: float, arc_elements: int = 16, leg_elements: int = 8, comm=MPI.COMM_SELF,
+            contact=None, element=None):
     """The scene; returns (model, B, contact, handle of end 2's displacement,
-    unit direction of leg 2 away from the wrap)."""
+    unit direction of leg 2 away from the wrap). ``contact``: ContactOptions
+    as a dict (friction is ``mu``), ``element``: the BeamElement (both
+    default textile's; benchmarks/accuracy_cost.py sweeps them)."""
     leg = 2 * R
     pts = [[-leg + leg * k / (2 * leg_elements), 0, RHO] for k in range(2 * leg_elements)]
     pts += [[RHO * math.cos(a), 0, RHO * math.sin(a)]
@@ -47,13 +50,13 @@ def capstan(mu: float, arc_elements: int = 16, leg_elements: int = 8, comm=MPI.C
     B = textile.Fibre(np.array(pts), r, MAT, [0, 1, 0])
     A = textile.straight_fibre([0, -2 * R, 0], [0, 2 * R, 0], R, MAT, num_elements=4,
                                section_vector=[1, 0, 0])
-    model = textile.Model([A, B], comm=comm)
+    model = textile.Model([A, B], element=element, comm=comm)
     for n in range(A.num_nodes):
         model.fix(A, n, "all")
     model.add_force(B, 0, [-T, 0, 0])
     model.fix(B, 0, ["y", "z", "g1x", "g1z"])
     end = model.fix(B, -1, ["position", "g1x", "g1z"], [0.0] * 5)
-    contact = FibreContact(dict(friction=mu))
+    contact = FibreContact(dict(contact or {}, friction=mu))
     model.add_effect(contact)
     return model, B, contact, end, out
 

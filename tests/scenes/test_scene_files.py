@@ -6,8 +6,9 @@ line ``python3 -m textile run``.
   demos' own options) run to completion through ``python3 -m textile run``
   in a subprocess, and their key figure is the same API call's (or the
   demo's reference);
-- unknown keys, wrong types, missing fields, bad handles and presets are
-  refused with the file's name and the key's full path;
+- unknown keys, wrong types, missing fields, bad handles and unknown presets
+  are refused with the file's name and the key's full path; a preset fills
+  the knobs the file leaves out;
 - ``--resume`` from a state saved within a stage ends where the
   uninterrupted run does;
 - under mpirun -n 2 the command gives the one-rank answer.
@@ -348,7 +349,8 @@ def test_unknown_names(tmp_path):
 def test_kind_tables_and_presets(tmp_path):
     data = scene_of("fibre_rollup.toml")
     data["scene"]["preset"] = "accurate"
-    refused(tmp_path, data, "scene.toml: scene.preset: accuracy presets do not exist yet")
+    refused(tmp_path, data, "scene.toml: scene.preset: must be one of \"draft\", "
+                            "\"standard\", \"fine\"; got \"accurate\"")
     data = scene_of("fibre_rollup.toml", test={"type": "shear"})
     refused(tmp_path, data, "scene.toml: test: not a table of a \"fibres\" scene")
     data = scene_of("plain_weave.toml")
@@ -357,6 +359,50 @@ def test_kind_tables_and_presets(tmp_path):
     data = scene_of("plain_weave.toml")
     data["fabric"]["spacing"] = 1e-3
     refused(tmp_path, data, "fabric.spacing_widths: give one of spacing, spacing_widths")
+
+
+def test_preset_sets_the_knobs_the_file_does_not(tmp_path):
+    """scene.preset (textile.presets) fills every knob the file leaves out;
+    the file's own keys win; no preset is "standard", today's defaults."""
+    from textile import presets
+    from textile.scene_file import read_scene
+    data = scene_of("plain_weave.toml")
+    del data["fabric"]["elements_per_crossing"], data["weaving"]["steps"]
+    data["weaving"]["contact"] = {"friction": 0.2}
+    plain = read_scene(write_toml(tmp_path / "plain.toml", data))
+    data["scene"]["preset"] = "fine"
+    data["solver"] = {"rtol": 1e-9}
+    fine = read_scene(write_toml(tmp_path / "fine.toml", data))
+    p, s = presets.preset("fine"), presets.preset("standard")
+    w = fine.weaving_options()
+    assert w["steps"] == p["weaving"]["steps"]
+    assert w["contact"] == dict(p["contact"], friction=0.2)
+    assert fine.fabric().elements_per_crossing == p["fabric"]["elements_per_crossing"]
+    assert fine.solver_options(MPI.COMM_SELF) == dict(p["solver"], rtol=1e-9, verbose=True)
+    assert plain.fabric().elements_per_crossing == s["fabric"]["elements_per_crossing"] == 4
+    assert plain.weaving_options()["contact"] == dict(s["contact"], friction=0.2)
+    assert plain.weaving_options()["steps"] == 5
+    data["fabric"]["elements_per_crossing"] = 3
+    data["weaving"]["contact"]["regularization"] = 0.01
+    mine = read_scene(write_toml(tmp_path / "mine.toml", data))
+    assert mine.fabric().elements_per_crossing == 3
+    assert mine.weaving_options()["contact"]["regularization"] == 0.01
+
+
+def test_draft_preset_weaves_in_its_steps(tmp_path):
+    """A weave scene with preset "draft" runs its 3 weaving steps (the
+    file gives none) and 1 relaxation step, on 2 elements a crossing."""
+    from textile.scene_file import read_scene
+    data = scene_of("plain_weave.toml")
+    del data["fabric"]["elements_per_crossing"], data["weaving"]["steps"]
+    data["fabric"]["yarn"]["fibres"], data["fabric"]["spacing_widths"] = 1, 6.0
+    data["scene"]["preset"] = "draft"
+    data["output"] = {"checkpoint": "none", "pictures": False}
+    data["solver"] = {"verbose": False}
+    scene = read_scene(write_toml(tmp_path / "scene.toml", data))
+    out = scene.run(output=str(tmp_path / "out"), comm=MPI.COMM_SELF)
+    assert out["steps"] == 4
+    assert out["figures"]["crossings in pattern order"] == out["figures"]["crossings"] == 4
 
 
 def test_api_errors_are_named_by_their_table(tmp_path):

@@ -1,0 +1,151 @@
+"""Accuracy presets: ``"draft"``, ``"standard"`` (today's defaults) and
+``"fine"`` (issue 21 §3).
+
+Each preset sets the same knobs, chosen from the Pareto fronts of
+``benchmarks/accuracy_cost.py`` (report: ``benchmarks/accuracy_cost.md``):
+
+- ``solver``: the Newton tolerances (:class:`~textile.solver.SolverOptions`
+  ``rtol``, ``stol``, ``atol``) and ``reuse_factorization``;
+- ``contact``: the penalty law's regularization depth and target
+  penetration, the adaptation and its band, the update tolerance and the
+  proximity criterion (:class:`~textile.effects.fibre_contact.ContactOptions`);
+- ``beam``: the section quadrature order (:class:`~textile.BeamElement`);
+- ``fabric``: elements per crossing (:class:`~textile.fabric.Fabric`);
+- ``weaving``: load steps of the weaving stage
+  (:class:`~textile.fabric.weaving.Weaving`);
+- ``matrix``: the matrix tetrahedra's size in fibre radii and their degree
+  (:class:`~textile.composite.Composite`).
+
+``"standard"`` is exactly the defaults of those classes
+(tests/solver/test_presets.py checks it field by field): a scene that
+names no preset, or ``"standard"``, runs as before presets existed.
+
+What each preset measured (``benchmarks/accuracy_cost.md``, 2026-12-01,
+one core; errors against references that are not the run itself;
+``BOUNDS`` holds the bounds the tests hold them to):
+
+- ``draft``: Newton tolerances 1e-6 (0-42% fewer Newton iterations; no
+  error changed by more than 1.3%: the capstan's 1.006e-4 to 0.993e-4),
+  contact update tolerance
+  1e-2, 2 elements a crossing, 3 weaving steps, matrix tetrahedra of 12
+  fibre radii. The small weave's crimp 13% off in 0.56x the time of
+  standard; the composite's bending stiffness 6.6% off in 0.28x.
+- ``standard``: crimp 7.1% off (mostly the penalty law's penetration:
+  g_r = 0.02 R at a target of 2 g_r), composite 2.8% off (the matrix
+  mesh), a crossing's contact force 17% below hard contact (penetration
+  0.035 R against a deflection of 0.2 R).
+- ``fine``: g_r = 0.005 R at a target of 1 g_r, 8 elements a crossing,
+  matrix tetrahedra of 4 radii: crimp 1.2% off in 2.3x the time of
+  standard, composite 0.86% off in 4.1x, the crossing's force 2.2% off
+  in the same time. The capstan's tension ratio is 6.3e-4 off instead of
+  1.0e-4 (its error wanders between 5e-6 and 5e-4 with every contact knob,
+  not falling with any).
+
+The beam knobs stay the same in every preset: quadratic elements with 2
+axial points and section order 4 are exact for the straight beam and cost
+nothing extra (section order 2 is 2e-3 off on the roll-up and breaks the
+twisted pair's symmetry by 8e-3; 6 and 8 change nothing). The elements of
+fibres a scene builds itself (``straight_fibre(num_elements=...)``) are the
+scene's: no preset sets them.
+"""
+from __future__ import annotations
+
+import copy
+
+#: the knobs each preset sets, by the options they belong to
+PRESETS = {
+    "draft": {
+        "solver": dict(rtol=1e-6, stol=1e-6, atol=1e-9, reuse_factorization=1),
+        "contact": dict(regularization=0.02, target_penetration=2.0, adapt_penalty=True,
+                        penalty_band=(0.5, 2.0), update_tolerance=1e-2, search_factor=2.0),
+        "beam": dict(section_order=4),
+        "fabric": dict(elements_per_crossing=2),
+        "weaving": dict(steps=3),
+        "matrix": dict(size_radii=12.0, degree=2),
+    },
+    "standard": {
+        "solver": dict(rtol=1e-10, stol=1e-10, atol=1e-13, reuse_factorization=1),
+        "contact": dict(regularization=0.02, target_penetration=2.0, adapt_penalty=True,
+                        penalty_band=(0.5, 2.0), update_tolerance=1e-3, search_factor=2.0),
+        "beam": dict(section_order=4),
+        "fabric": dict(elements_per_crossing=4),
+        "weaving": dict(steps=5),
+        "matrix": dict(size_radii=8.0, degree=2),
+    },
+    "fine": {
+        "solver": dict(rtol=1e-10, stol=1e-10, atol=1e-13, reuse_factorization=1),
+        "contact": dict(regularization=0.005, target_penetration=1.0, adapt_penalty=True,
+                        penalty_band=(0.5, 2.0), update_tolerance=1e-3, search_factor=2.0),
+        "beam": dict(section_order=4),
+        "fabric": dict(elements_per_crossing=8),
+        "weaving": dict(steps=5),
+        "matrix": dict(size_radii=4.0, degree=2),
+    },
+}
+
+#: the default preset (today's defaults)
+DEFAULT = "standard"
+
+#: documented error bounds per preset and case of benchmarks/accuracy_cost.py
+#: (about 1.5 times the error measured on 2026-12-01; tests/solver/
+#: test_presets.py holds the weave and composite to them): weave = crimp of
+#: the 2 x 2 monofilament weave against its extrapolated reference,
+#: composite = its bending stiffness over the plate formula against the run
+#: on a matrix of 2 fibre radii, crossed = a crossing's contact force against hard contact,
+#: capstan = the tension ratio against exp(mu theta R / (R + r))
+BOUNDS = {
+    "draft": dict(weave=0.2, composite=0.1, crossed=0.25, capstan=1e-3),
+    "standard": dict(weave=0.1, composite=0.04, crossed=0.25, capstan=1e-3),
+    "fine": dict(weave=0.02, composite=0.013, crossed=0.035, capstan=1e-3),
+}
+
+BLOCKS = tuple(PRESETS[DEFAULT])
+
+
+def names() -> tuple:
+    """The presets, coarsest first."""
+    return tuple(PRESETS)
+
+
+def preset(name: str) -> dict:
+    """A copy of preset ``name``'s knobs, by block; ValueError naming the
+    presets for an unknown name."""
+    if not isinstance(name, str) or name not in PRESETS:
+        raise ValueError(f"unknown accuracy preset {name!r}; known: {', '.join(PRESETS)}")
+    return copy.deepcopy(PRESETS[name])
+
+
+def options(name: str | None = None, **overrides) -> dict:
+    """The option dicts of preset ``name`` (default ``"standard"``), with
+    the user's ``overrides`` winning key by key, e.g.
+    ``options("fine", contact=dict(friction=0.3), solver=dict(verbose=False))``
+    -> ``{"solver": {...}, "contact": {...}, "beam": {...}, "fabric": {...},
+    "weaving": {...}, "matrix": {...}}``. ``solver`` and ``contact`` are
+    checked against :class:`~textile.solver.SolverOptions` and
+    :class:`~textile.effects.fibre_contact.ContactOptions` (unknown names
+    raise ValueError); give them to ``Solver(model, out["solver"])`` and
+    ``FibreContact(out["contact"])``; ``beam`` to ``BeamElement(**out["beam"])``
+    (or :func:`element`)."""
+    out = preset(DEFAULT if name is None else name)
+    unknown = sorted(set(overrides) - set(BLOCKS))
+    if unknown:
+        raise ValueError(f"presets.options: unknown block(s) {unknown}; known: {list(BLOCKS)}")
+    for block, given in overrides.items():
+        if given is None:
+            continue
+        if not isinstance(given, dict):
+            raise TypeError(f"presets.options: {block} must be a dict, got "
+                            f"{type(given).__name__}")
+        out[block].update(given)
+    from .effects.fibre_contact import ContactOptions
+    from .solver.options import SolverOptions
+    SolverOptions.from_dict(out["solver"])
+    ContactOptions.from_dict(out["contact"])
+    return out
+
+
+def element(name: str | None = None, **overrides):
+    """The :class:`~textile.BeamElement` of preset ``name`` (``overrides``:
+    its fields, e.g. ``order=1``)."""
+    from .beam.element import BeamElement
+    return BeamElement(**dict(preset(DEFAULT if name is None else name)["beam"], **overrides))
