@@ -1,16 +1,20 @@
-"""Where weaving bundles stands: 2 x 2 plain weaves of hexagonal bundles.
+"""Weaving bundles: 2 x 2 plain weaves of hexagonal bundles, by lifting
+(heddles, the default for bundles) or by ordered contact (the paper's).
 
 Weaves a 2 x 2 plain weave of ``--fibres`` hexagonal bundles (R = 0.1 mm,
-E = 5 GPa), ``--spacing`` yarn widths apart, with the default weaving scene
-(:class:`textile.fabric.weaving.Weaving`) and, per case, the weaving stage's
+E = 5 GPa), ``--spacing`` yarn widths apart. ``--method lifting``: the
+lifting weave's three stages (:class:`textile.fabric.weaving.Weaving`).
+``--method ordered``: the ordered weave, per case with the weaving stage's
 ``easy_iterations`` and an optional :class:`~textile.effects.ViscousDrag`
-fading as (1 - s)^2 over the weaving stage. Prints and writes to
+fading as (1 - s)^2 over the weaving stage, the relaxation optional (where
+the ordered weave stops on bundles). Prints and writes to
 ``output/weave_bundles.json`` how far each case got (load factor of the
 stage that stopped, the error), its Newton iterations per step (failed
 attempts counted in the solver's counters), the crossings in pattern order,
-the largest penetration and the wall time. Bundles do not weave yet: the
-figures say where they stop (benchmarks/README.md, "Bundles").
+the largest penetration, the crimp, the sections' height over width and the
+wall time (benchmarks/README.md, "Bundles").
 
+    .venv/bin/python benchmarks/weave_bundles.py --method lifting [--fibres 3 7]
     .venv/bin/python benchmarks/weave_bundles.py [--fibres 3 7] [--spacing 2]
         [--easy 4 12] [--drag 0 1] [--relax]
 """
@@ -34,12 +38,24 @@ MAT = textile.Material(5.0e9, 0.35)
 
 
 def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm,
-          relaxation_steps: int = 1, make_up: bool = False) -> dict:
+          relaxation_steps: int = 1, make_up: bool = False, method: str = "ordered",
+          free_length: float = 0.5) -> dict:
     yarn = Yarn(fibres, R, MAT, packing="hexagonal")
     fabric = Fabric(yarn, num_warp=2, num_weft=2, spacing=spacing * yarn.width,
-                    pattern="plain", elements_per_crossing=4)
-    weaving = Weaving(fabric, comm=comm, relaxation_steps=relaxation_steps)
+                    pattern="plain", elements_per_crossing=4,
+                    free_length=free_length * spacing * yarn.width)
+    weaving = Weaving(fabric, comm=comm, relaxation_steps=relaxation_steps, method=method)
     stages = weaving.stages()
+    if method == "lifting":
+        t0 = time.perf_counter()
+        solver = textile.Solver(weaving.model, dict(verbose=False))
+        error = ""
+        try:
+            solver.run(stages)
+        except textile.ConvergenceError as e:
+            error = str(e)
+        return _row(weaving, solver, error, time.perf_counter() - t0,
+                    dict(fibres=fibres, spacing=spacing, method=method, free_length=free_length))
     stages[0].solver.update(easy_iterations=easy)
     if make_up:
         stages[1].effects[weaving.contact]["make_up_penetrations"] = True
@@ -55,12 +71,16 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
         solver.run(stages if relax else stages[:1])
     except textile.ConvergenceError as e:
         error = str(e)
-    wall = time.perf_counter() - t0
+    return _row(weaving, solver, error, time.perf_counter() - t0,
+                dict(fibres=fibres, spacing=spacing, method=method, easy_iterations=easy,
+                     drag=drag, relaxation=relax, relaxation_steps=relaxation_steps,
+                     make_up=make_up, free_length=free_length))
+
+
+def _row(weaving, solver, error: str, wall: float, case: dict) -> dict:
     summary = weaving.summary()
     counters = solver.counters
-    return dict(fibres=fibres, spacing=spacing, easy_iterations=easy, drag=drag,
-                relaxation=relax, relaxation_steps=relaxation_steps, make_up=make_up,
-                stage=solver.history[-1].stage if solver.history else "",
+    return dict(**case, stage=solver.history[-1].stage if solver.history else "",
                 load_factor=float(weaving.model.load_factor), error=error[:300],
                 wall_seconds=wall,
                 newton_per_step=[h.newton_iterations for h in solver.history],
@@ -68,7 +88,10 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
                 failed_attempts=counters["failed_attempts"],
                 crossings_in_order=int(summary["crossings in pattern order"]),
                 crossings=int(summary["crossings"]),
-                max_penetration_over_radius=float(summary["max penetration / radius"]))
+                max_penetration_over_radius=float(summary["max penetration / radius"]),
+                crimp=float(summary["warp crimp"]),
+                height_over_width=float(summary["warp section height"]
+                                        / summary["warp section width"]))
 
 
 def main():
@@ -81,18 +104,28 @@ def main():
     p.add_argument("--relaxation-steps", type=int, default=1)
     p.add_argument("--make-up", action="store_true",
                    help="the relaxation makes up the penetrations it starts with")
+    p.add_argument("--method", choices=("ordered", "lifting"), default="ordered",
+                   help="ordered contact (the paper's) or lifting (heddles); lifting ignores "
+                        "--easy, --drag, --relax and --make-up (it runs all its stages)")
+    p.add_argument("--free-length", type=float, default=None,
+                   help="yarn tails beyond the outer crossings, in spacings (default 0.5, "
+                        "1.0 for lifting)")
     args = p.parse_args()
+    free = args.free_length or (1.0 if args.method == "lifting" else 0.5)
     rows = []
-    for fibres, easy, drag in itertools.product(args.fibres, args.easy, args.drag):
+    cases = itertools.product(args.fibres, args.easy, args.drag) if args.method == "ordered" \
+        else ((f, 0, 0.0) for f in args.fibres)
+    for fibres, easy, drag in cases:
         row = weave(fibres, args.spacing, easy, drag, args.relax, MPI.COMM_SELF,
-                    args.relaxation_steps, args.make_up)
+                    args.relaxation_steps, args.make_up, args.method, free)
         rows.append(row)
-        print(f"{fibres} fibres, easy_iterations {easy}, drag {drag:g}: "
+        print(f"{fibres} fibres, {args.method}, easy_iterations {easy}, drag {drag:g}: "
               f"{row['stage']} s={row['load_factor']:.3f}, "
               f"{row['newton_iterations']} Newton iterations "
               f"({row['failed_attempts']} failed attempts), "
               f"{row['crossings_in_order']}/{row['crossings']} crossings in order, "
               f"penetration {row['max_penetration_over_radius']:.3f} R, "
+              f"crimp {row['crimp']:.4f}, height/width {row['height_over_width']:.2f}, "
               f"{row['wall_seconds']:.1f} s{'; ' + row['error'][:120] if row['error'] else ''}",
               flush=True)
     os.makedirs(OUT, exist_ok=True)

@@ -6,12 +6,9 @@ Two warp yarns (along x) and two weft yarns (along y), each of 7 fibres
 side by side in one layer (a flat yarn, ``--packing "layers 1"``), start
 straight, in one plane, interpenetrating at their four crossings.
 ``--fibres 1`` weaves monofilaments (woven screens, filter fabrics) in a
-few seconds. (Hexagonally packed bundles, ``--packing hexagonal``, do not
-weave yet: fibres stacked in a yarn roll on each other and the contact
-loop does not settle; the run stops with DIVERGED_EFFECTS_UNSETTLED, its
-converged steps kept.) The weave pattern (plain: warp over, weft over,
-alternating) says which yarn lies on top at each crossing. The solver
-*weaves* the fabric (docs/method.md §6, Durville 2010):
+few seconds. The weave pattern (plain: warp over, weft over, alternating)
+says which yarn lies on top at each crossing. The solver *weaves* the
+fabric (docs/method.md §6, Durville 2007):
 
 1. **weaving stage** (5 load steps): a contact between fibres of a warp
    and a weft yarn takes the vertical as its normal and the sign of its gap
@@ -22,6 +19,14 @@ alternating) says which yarn lies on top at each crossing. The solver
    (crimp);
 2. **relaxation stage**: ordinary contact everywhere (normals between the
    fibres' intermediate geometries), tensions held: the woven state.
+
+Bundles (``--packing hexagonal --fibres 3`` or ``7``: yarns more than one
+fibre high) weave by *lifting* instead (docs/method.md §6.4): heddles lift
+each yarn over, and press it under, the yarns it crosses while warp and
+weft pass through each other; then ordinary contact everywhere as the
+heddles let go, and the bundles flatten where they cross (lens-shaped
+sections). Their tails are one spacing long (the lifted yarns crimp by up
+to 20% before they settle). 7-fibre bundles take about two minutes.
 
 Then the fabric's figures: warp and weft crimp and shrinkage, each yarn's
 section (width and height) at each crossing, fibre curvatures, the order
@@ -67,14 +72,17 @@ args = parser.parse_args()
 R = 0.1e-3
 mat = textile.Material(5.0e9, 0.35)
 yarn = Yarn(args.fibres, R, mat, packing=args.packing)  # fibres touching
-fabric = Fabric(yarn, num_warp=2, num_weft=2, spacing=args.spacing * yarn.width,
-                pattern="plain", elements_per_crossing=args.elements)
+bundle = yarn.height > 2 * R * (1 + 1e-9)   # more than one fibre high: woven by lifting
+spacing = args.spacing * yarn.width
+fabric = Fabric(yarn, num_warp=2, num_weft=2, spacing=spacing, pattern="plain",
+                elements_per_crossing=args.elements, free_length=spacing if bundle else None)
 comm = MPI.COMM_WORLD
 if comm.rank == 0:
     print(fabric)
 
-# The scene: fibres, yarn-end rigid bodies, contact; two stages.
-weaving = Weaving(fabric, steps=5, tension=1e-4)
+# The scene: fibres, yarn-end rigid bodies, contact (and heddles for
+# bundles); its stages.
+weaving = Weaving(fabric, tension=1e-4)
 output = weaving.output(args.output)
 weaving.run(output)
 

@@ -228,7 +228,8 @@ void declare_contact(py::module_& m)
                            "Crossing order of the weaving stage: fibre -> yarn, and "
                            "yarn_above[a, b] = +1 (a above b), -1 (below), 0 (no order).")
       .def(py::init(
-               [](const carray<int>& fibre_yarn, const carray<std::int8_t>& above)
+               [](const carray<int>& fibre_yarn, const carray<std::int8_t>& above,
+                  bool pass_through)
                {
                  if (above.ndim() != 2 or above.shape(0) != above.shape(1))
                    throw std::invalid_argument("WeavingOrder: yarn_above must be square");
@@ -236,9 +237,10 @@ void declare_contact(py::module_& m)
                                                       fibre_yarn.data() + fibre_yarn.size()),
                                      std::vector<std::int8_t>(above.data(),
                                                               above.data() + above.size()),
-                                     static_cast<int>(above.shape(0)));
+                                     static_cast<int>(above.shape(0)), pass_through);
                }),
-           py::arg("fibre_yarn"), py::arg("yarn_above"))
+           py::arg("fibre_yarn"), py::arg("yarn_above"), py::arg("pass_through") = false)
+      .def_property_readonly("pass_through", &WeavingOrder::pass_through)
       .def_property_readonly("num_fibres", &WeavingOrder::num_fibres)
       .def_property_readonly("num_yarns", &WeavingOrder::num_yarns)
       .def("sign", &WeavingOrder::sign, py::arg("fibre_i"), py::arg("fibre_j"));

@@ -192,6 +192,14 @@ PYBIND11_MODULE(_cpp, m)
       "A[rows, cols] += values (local numbering; negative indices skipped)");
 
   m.def(
+      "add_entries",
+      [](Mat A, const carray<std::int32_t>& rows, const carray<std::int32_t>& cols,
+         const carray<double>& values)
+      { assembly::add_entries(A, cspan(rows), cspan(cols), cspan(values)); },
+      py::arg("A"), py::arg("rows"), py::arg("cols"), py::arg("values"),
+      "A[rows[k], cols[k]] += values[k] (local numbering; negative indices skipped)");
+
+  m.def(
       "add_diagonal",
       [](Mat A, const carray<std::int32_t>& rows, double value)
       { assembly::add_diagonal(A, cspan(rows), value); },

@@ -40,7 +40,7 @@ def test_stacked_yarns_settle_within_each_step():
     yarn = Yarn(3, R, MAT, packing="hexagonal", friction=0.0)
     fab = Fabric(yarn, num_warp=2, num_weft=2, spacing=2.0 * yarn.width, pattern="plain",
                  elements_per_crossing=4)
-    w = Weaving(fab, comm=MPI.COMM_SELF)
+    w = Weaving(fab, comm=MPI.COMM_SELF, method="ordered")   # the ordered contact loop
     solver = textile.Solver(w.model, dict(verbose=False))
     weaving, _ = w.stages()
     solver.run_stage(weaving, t_end=0.7)

@@ -147,3 +147,22 @@ def test_configure_checks_its_options():
     contact.configure(mode="weaving", fibre_yarn=[0] * 4, yarn_above=[[0]])
     with pytest.raises(ValueError, match="names 4 fibres, the model has 6"):
         model.setup()
+
+
+def test_within_yarns_mode_leaves_crossing_yarns_without_contact():
+    """``mode="within_yarns"`` (the lifting weave's first stage): the warp
+    and the weft pass through each other, no element between them, while
+    the fibres of each yarn keep their contacts (the control: the weaving
+    mode, same state, has elements between the yarns)."""
+    fab, model, contact = two_yarns(warp_on_top=True)
+    model.setup()
+    yarn = np.asarray(fab.fibre_yarn)
+    contact.configure(**weaving_mode(fab, "within_yarns"))
+    contact.prepare(model)
+    d = contact.elements()
+    assert len(d["fibre_i"]) > 0
+    assert np.all(yarn[d["fibre_i"]] == yarn[d["fibre_j"]])
+    contact.configure(**weaving_mode(fab))
+    contact.prepare(model)
+    d = contact.elements()
+    assert np.any(yarn[d["fibre_i"]] != yarn[d["fibre_j"]])

@@ -184,7 +184,7 @@ def test_bundles_have_friction_within_the_yarn():
     weft = Yarn(3, R, MAT, packing="hexagonal", friction=0.1)
     fab = Fabric(Yarn(7, R, MAT, packing="layers 1"), weft, num_warp=2, num_weft=2,
                  spacing=30 * R, pattern="plain", elements_per_crossing=4)
-    w = Weaving(fab, contact=dict(friction=0.05), comm=MPI.COMM_SELF)
+    w = Weaving(fab, contact=dict(friction=0.05), method="ordered", comm=MPI.COMM_SELF)
     assert w.contact.yarn_friction.tolist() == [0.05, 0.05, 0.1, 0.1]
 
 

@@ -6,10 +6,12 @@ term is a new file here implementing :class:`~textile.effects.base.Effect`.
 """
 from .base import Effect, State
 from .beam_elasticity import BeamElasticity
+from .heddles import Heddles
 from .nodal_loads import EndMoments, NodalForces
 from .viscous_drag import ViscousDrag
 
 __all__ = ["Effect", "State", "BeamElasticity", "NodalForces", "EndMoments", "ViscousDrag",
+           "Heddles",
            "ElasticBlock",
            "FibreMatrixTie", "FibreMatrixJunctions"]
 

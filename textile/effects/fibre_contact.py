@@ -267,7 +267,7 @@ class FibreContact(Effect):
         """The coefficient between yarns (or of every pair) in this stage."""
         return self.options.friction if self._friction_on else 0.0
 
-    MODES = ("ordinary", "weaving")
+    MODES = ("ordinary", "weaving", "within_yarns")
 
     def __init__(self, options: ContactOptions | dict | None = None, fibre_yarn=None,
                  yarn_friction=None):
@@ -307,6 +307,10 @@ class FibreContact(Effect):
         mode a contact element between fibres of two ordered yarns has the
         normal sign * e_z (from fibre j to fibre i), so a fibre of the upper
         yarn below one of the lower yarn has a negative gap wherever it is.
+        ``mode="within_yarns"`` (same arrays): fibres of two ordered yarns
+        get no contact at all, they pass through each other (while
+        :class:`~textile.effects.heddles.Heddles` lift the yarns apart);
+        contacts within a yarn and between parallel yarns are ordinary.
 
         The yarns' interpenetration in the reference (straight, coplanar)
         state is made up progressively over the stage: an ordered element's
@@ -351,12 +355,13 @@ class FibreContact(Effect):
         mode = self.mode if mode is None else mode
         if mode not in self.MODES:
             raise ValueError(f"FibreContact: mode must be one of {self.MODES}, got {mode!r}")
-        if mode == "weaving":
+        if mode in ("weaving", "within_yarns"):
             if fibre_yarn is None or yarn_above is None:
-                raise ValueError("FibreContact: mode='weaving' needs fibre_yarn and yarn_above "
-                                 "(textile.effects.weaving_contact.weaving_mode(fabric))")
+                raise ValueError(f"FibreContact: mode={mode!r} needs fibre_yarn and yarn_above "
+                                 f"(textile.effects.weaving_contact.weaving_mode(fabric))")
             self._order = _cpp.WeavingOrder(np.asarray(fibre_yarn, dtype=np.intc),
-                                            np.asarray(yarn_above, dtype=np.int8))
+                                            np.asarray(yarn_above, dtype=np.int8),
+                                            pass_through=mode == "within_yarns")
             self._fibre_yarn = np.asarray(fibre_yarn, dtype=np.intc)
             self._yarn_above = np.asarray(yarn_above, dtype=np.int8)
             self._weaving_done = False
@@ -364,9 +369,10 @@ class FibreContact(Effect):
                                  yarn_above=np.asarray(yarn_above, dtype=np.int8))
             self._check_order()
         elif fibre_yarn is not None or yarn_above is not None:
-            raise ValueError("FibreContact: fibre_yarn and yarn_above go with mode='weaving'")
+            raise ValueError("FibreContact: fibre_yarn and yarn_above go with mode='weaving' "
+                             "or 'within_yarns'")
         else:
-            if self.mode == "weaving":
+            if self.mode in ("weaving", "within_yarns"):
                 # the fabric's yarns stay bent around each other
                 self._woven, self._woven_arrays = self._order, self._weaving
             self._order = self._weaving = None
@@ -443,7 +449,7 @@ class FibreContact(Effect):
         return _cpp.detect_contacts(q, mesh.first_node, mesh.order, self.radius,
                                     self.options.search_factor, self.self_exclusion,
                                     self.spacing, math.radians(self.options.parallel_angle),
-                                    held, self._order if self.mode == "weaving" else None,
+                                    held, self._order,
                                     np.zeros((0, 5)) if zones is None else zones,
                                     keep_kinds)
 
@@ -495,8 +501,8 @@ class FibreContact(Effect):
         new, inherited = old.next(found, q, mesh.first_node, mesh.order, self.radius, self.k0,
                                   self.g_r, self._mu(), self.u_rev,
                                   math.radians(o.parallel_angle), mesh.owned,
-                                  self._order if self.mode == "weaving" else None,
-                                  reset_normals, self._woven, persist, **self._friction_args())
+                                  self._order, reset_normals, self._woven, persist,
+                                  **self._friction_args())
         self._set_depths(new)
         self._carry_zone_penalties(new, old, inherited, q)
         new.evaluate(q)
@@ -744,7 +750,7 @@ class FibreContact(Effect):
         loaded unknowns, as the committed set; mode and order."""
         self.check_state(model, data)
         mode = self.MODES[int(data["mode"])]
-        if mode == "weaving":
+        if mode in ("weaving", "within_yarns"):
             self.configure(mode=mode, fibre_yarn=data["fibre_yarn"],
                            yarn_above=data["yarn_above"])
         else:

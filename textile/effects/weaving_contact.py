@@ -29,10 +29,11 @@ def yarn_above(fabric) -> np.ndarray:
     return above
 
 
-def weaving_mode(fabric) -> dict:
+def weaving_mode(fabric, mode: str = "weaving") -> dict:
     """Stage options of :class:`~textile.effects.fibre_contact.FibreContact`
-    for weaving ``fabric``: ``dict(mode="weaving", fibre_yarn=...,
-    yarn_above=...)``, the fibres numbered as ``fabric.fibres()``."""
+    for weaving ``fabric``: ``dict(mode=mode, fibre_yarn=..., yarn_above=...)``,
+    the fibres numbered as ``fabric.fibres()``; ``mode`` "weaving" (ordered
+    contact) or "within_yarns" (the crossing yarns pass through each other)."""
     fabric.fibres()  # numbers the fibres' yarns (built once)
-    return dict(mode="weaving", fibre_yarn=np.asarray(fabric.fibre_yarn),
+    return dict(mode=mode, fibre_yarn=np.asarray(fabric.fibre_yarn),
                 yarn_above=yarn_above(fabric))

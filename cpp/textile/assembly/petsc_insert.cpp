@@ -25,6 +25,20 @@ void add_block(Mat A, std::span<const std::int32_t> rows, std::span<const std::i
         "MatSetValuesLocal");
 }
 
+void add_entries(Mat A, std::span<const std::int32_t> rows, std::span<const std::int32_t> cols,
+                 std::span<const double> values)
+{
+  if (rows.size() != cols.size() or rows.size() != values.size())
+    throw std::invalid_argument("add_entries: rows, cols and values differ in length");
+  for (std::size_t k = 0; k < rows.size(); ++k)
+  {
+    if (rows[k] < 0 or cols[k] < 0)
+      continue;
+    check(MatSetValuesLocal(A, 1, &rows[k], 1, &cols[k], &values[k], ADD_VALUES),
+          "MatSetValuesLocal");
+  }
+}
+
 void add_diagonal(Mat A, std::span<const std::int32_t> rows, double value)
 {
   for (std::int32_t i : rows)

@@ -18,6 +18,11 @@ namespace textile::assembly
 void add_block(Mat A, std::span<const std::int32_t> rows, std::span<const std::int32_t> cols,
                std::span<const double> values);
 
+/// A[rows[k], cols[k]] += values[k] for each k (local indices; an entry
+/// with a negative index is skipped): scattered entries, one per k.
+void add_entries(Mat A, std::span<const std::int32_t> rows, std::span<const std::int32_t> cols,
+                 std::span<const double> values);
+
 /// A[i, i] += value for every local index i in rows (negative skipped).
 void add_diagonal(Mat A, std::span<const std::int32_t> rows, double value);
 

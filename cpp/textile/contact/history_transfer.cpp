@@ -99,6 +99,11 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
     ContactPoint& p = points[k];
     if (!par.weaving or par.weaving->sign(p.fibre_i, p.fibre_j) == 0)
       continue;
+    if (par.weaving->pass_through()) // the yarns pass through each other
+    {
+      keep[k] = 0;
+      continue;
+    }
     const int z = d.zone_of_point[k];
     keep[k] = !woven[z];
     woven[z] = 1;

@@ -6,8 +6,9 @@
 namespace textile::contact
 {
 WeavingOrder::WeavingOrder(std::vector<int> fibre_yarn, std::vector<std::int8_t> above,
-                           int num_yarns)
-    : _fibre_yarn(std::move(fibre_yarn)), _above(std::move(above)), _num_yarns(num_yarns)
+                           int num_yarns, bool pass_through)
+    : _fibre_yarn(std::move(fibre_yarn)), _above(std::move(above)), _num_yarns(num_yarns),
+      _pass_through(pass_through)
 {
   const std::size_t n = num_yarns;
   if (num_yarns < 0 or _above.size() != n * n)

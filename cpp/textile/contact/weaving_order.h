@@ -10,6 +10,11 @@
 // deep, so the yarns are pushed over and under each other. Pairs without
 // an order (fibres of one yarn, yarns of one direction) keep the ordinary
 // normal (contact_normal.h).
+//
+// An order made to *pass through* gives ordered pairs no contact at all:
+// the yarns that cross pass through each other while something else (the
+// heddles of the lifting weave, textile/effects/heddles.py) separates
+// them; contacts within a yarn and between parallel yarns stay.
 #pragma once
 
 #include <Eigen/Core>
@@ -32,7 +37,9 @@ public:
   /// @throws std::invalid_argument: a yarn number out of range, a value
   ///         other than -1, 0, +1, an order that is not antisymmetric
   ///         (above[a, b] = -above[b, a], 0 on the diagonal), a size mismatch.
-  WeavingOrder(std::vector<int> fibre_yarn, std::vector<std::int8_t> above, int num_yarns);
+  /// @param pass_through  ordered pairs get no contact element (above)
+  WeavingOrder(std::vector<int> fibre_yarn, std::vector<std::int8_t> above, int num_yarns,
+               bool pass_through = false);
 
   int num_fibres() const { return static_cast<int>(_fibre_yarn.size()); }
   int num_yarns() const { return _num_yarns; }
@@ -45,10 +52,14 @@ public:
   /// The weaving normal of a pair, sign(i, j) e_z (zero without an order).
   Eigen::Vector3d normal(int fibre_i, int fibre_j) const;
 
+  /// Whether ordered pairs pass through each other (no contact element).
+  bool pass_through() const { return _pass_through; }
+
 private:
   std::vector<int> _fibre_yarn;
   std::vector<std::int8_t> _above;
   int _num_yarns = 0;
+  bool _pass_through = false;
 };
 
 } // namespace textile::contact
