@@ -63,7 +63,8 @@ class Weaving:
     fabric:
         The :class:`~textile.fabric.Fabric` to weave.
     steps:
-        Load steps of the weaving stage (about five, docs/method.md §6.3).
+        Load steps of the weaving stage (about five, docs/method.md §6.3),
+        or of the lifting stage.
     relaxation_steps:
         Load steps of the ordinary-contact stage that follows.
     tension:
@@ -120,7 +121,7 @@ class Weaving:
     #: dominate the tangent (30: each node's spring a few times its beam's)
     HEDDLE_STIFFNESS = 30.0
 
-    def __init__(self, fabric: Fabric, steps: int | None = None,
+    def __init__(self, fabric: Fabric, steps: int = 5,
                  relaxation_steps: int = 1, tension: float = 1e-4, contact=None, element=None,
                  method: str | None = None, settling_steps: int = 16, amplitude: float = 0.55,
                  comm=MPI.COMM_WORLD):
@@ -134,8 +135,7 @@ class Weaving:
         if method not in self.METHODS:
             raise ValueError(f"Weaving: method must be one of {self.METHODS}, got {method!r}")
         self.method = method
-        self.steps = _count(5 if steps is None and method == "ordered" else
-                            4 if steps is None else steps, "steps")
+        self.steps = _count(steps, "steps")
         self.relaxation_steps = _count(relaxation_steps, "relaxation_steps")
         self.settling_steps = _count(settling_steps, "settling_steps")
         if isinstance(amplitude, bool) or not isinstance(amplitude, numbers.Real) \
