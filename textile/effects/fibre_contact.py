@@ -35,6 +35,8 @@ points from fibre j to fibre i, gap < 0 when they interpenetrate.
 """
 from __future__ import annotations
 
+import dataclasses
+
 import math
 import numbers
 from dataclasses import dataclass
@@ -299,7 +301,7 @@ class FibreContact(Effect):
     # -- stage options ---------------------------------------------------------
     def configure(self, mode: str | None = None, fibre_yarn=None, yarn_above=None,
                   friction: bool | None = None, make_up_penetrations: bool | None = None,
-                  **unknown) -> None:
+                  update_tolerance: float | None = None, **unknown) -> None:
         """Stage options: ``mode="ordinary"``, or ``mode="weaving"`` with
         ``fibre_yarn`` (yarn of each fibre, in the model's fibre order) and
         ``yarn_above`` ((yarns, yarns): +1 if yarn a lies above yarn b at
@@ -334,11 +336,24 @@ class FibreContact(Effect):
         structure's equilibrium. What it is for: after the weaving stage,
         ordinary contact measures gaps where the ordered one did not (fibres
         bent around each other at a crossing: 0.44 R found at once), and the
-        relaxation would take that jump in one step."""
+        relaxation would take that jump in one step.
+
+        ``update_tolerance`` (a number > 0): the contact loop's tolerance
+        (``ContactOptions.update_tolerance``) from this stage on; a stage
+        whose path is artificial (the lifting weave's settling) may take a
+        looser one than the stages whose states are answers."""
         if unknown:
             raise ValueError(f"FibreContact.configure: unknown option(s) {sorted(unknown)}; "
                              f"allowed: mode, fibre_yarn, yarn_above, friction, "
-                             f"make_up_penetrations")
+                             f"make_up_penetrations, update_tolerance")
+        if update_tolerance is not None:
+            if isinstance(update_tolerance, bool) or not _real(update_tolerance) \
+                    or not update_tolerance > 0:
+                raise ValueError(f"FibreContact: update_tolerance must be a number > 0, got "
+                                 f"{update_tolerance!r}")
+            # a copy: the options a user passed stay theirs
+            self.options = dataclasses.replace(self.options,
+                                               update_tolerance=float(update_tolerance))
         if friction is not None and not isinstance(friction, (bool, np.bool_)):
             raise ValueError(f"FibreContact: friction must be True or False, got {friction!r}")
         if make_up_penetrations is not None:
@@ -350,7 +365,7 @@ class FibreContact(Effect):
                                  "mode (the weaving mode makes up its own)")
         self._make_up, self._make_up_reference = bool(make_up_penetrations), None
         if mode is None and fibre_yarn is None and yarn_above is None:
-            self._switch_friction(friction)
+            self._switch_friction(friction)   # only friction (or tolerances) given
             return
         mode = self.mode if mode is None else mode
         if mode not in self.MODES:
