@@ -2,13 +2,32 @@
 
 What this demo shows
 --------------------
-Two warp yarns (along x) and two weft yarns (along y), each of 7 fibres
-side by side in one layer (a flat yarn, ``--packing "layers 1"``), start
-straight, in one plane, interpenetrating at their four crossings.
-``--fibres 1`` weaves monofilaments (woven screens, filter fabrics) in a
-few seconds. The weave pattern (plain: warp over, weft over, alternating)
-says which yarn lies on top at each crossing. The solver *weaves* the
-fabric (docs/method.md §6, Durville 2007):
+Two warp yarns (along x) and two weft yarns (along y), each a bundle of 7
+fibres (a hexagon: one fibre and its six neighbours), 2 yarn widths apart,
+start straight, in one plane, interpenetrating at their four crossings.
+The weave pattern (plain: warp over, weft over, alternating) says which
+yarn lies on top at each crossing. The solver *weaves* the fabric
+(docs/method.md §6, Durville 2007). Bundles weave by *lifting*
+(docs/method.md §6.4):
+
+1. **lifting stage**: heddles (soft vertical springs at the crossings)
+   lift each yarn where it passes over another and press it where it
+   passes under, while warp and weft pass through each other (no contact
+   between them yet); fibres of one yarn touch and rub (friction 0.2).
+   One end of each yarn is clamped through a rigid body; the other end's
+   body slides in the fabric plane under a small axial tension, so the
+   yarns shorten as they bend (crimp);
+2. **settling stage**: ordinary contact everywhere, the heddles letting
+   go: the yarns come down onto each other and the bundles flatten where
+   they cross (lens-shaped sections, as in the paper's Fig. 10);
+3. **relaxation**: no heddles: the woven state.
+
+The yarns' tails are one spacing long (lifted, the yarns crimp by up to
+20% before they settle). About 25 s on 2 cores (``bash .ci/demo`` runs it
+on two ranks).
+
+Flat yarns (``--packing "layers 1"``) and monofilaments (``--fibres 1``,
+woven screens, filter fabrics; a few seconds) weave as in the paper:
 
 1. **weaving stage** (5 load steps): a contact between fibres of a warp
    and a weft yarn takes the vertical as its normal and the sign of its gap
@@ -19,14 +38,6 @@ fabric (docs/method.md §6, Durville 2007):
    (crimp);
 2. **relaxation stage**: ordinary contact everywhere (normals between the
    fibres' intermediate geometries), tensions held: the woven state.
-
-Bundles (``--packing hexagonal --fibres 3`` or ``7``: yarns more than one
-fibre high) weave by *lifting* instead (docs/method.md §6.4): heddles lift
-each yarn over, and press it under, the yarns it crosses while warp and
-weft pass through each other; then ordinary contact everywhere as the
-heddles let go, and the bundles flatten where they cross (lens-shaped
-sections). Their tails are one spacing long (the lifted yarns crimp by up
-to 20% before they settle). 7-fibre bundles take about two minutes.
 
 Then the fabric's figures: warp and weft crimp and shrinkage, each yarn's
 section (width and height) at each crossing, fibre curvatures, the order
@@ -44,9 +55,9 @@ What to look at
   crimp and shrinkage; ``woven.h5``: the woven state, to start loading tests
   from (``textile.load_state``).
 
-Run: ``python3 demos/demo_plain_weave.py [--output DIR] [--fibres N]
-[--packing P] [--elements N] [--spacing S]`` (about half a minute on 2
-cores; a few seconds with ``--fibres 1 --spacing 6``).
+Run: ``mpirun -n 2 python3 demos/demo_plain_weave.py [--output DIR]
+[--fibres N] [--packing P] [--elements N] [--spacing S]`` (about 25 s on 2
+ranks, 55 s on one; a few seconds with ``--fibres 1 --spacing 6``).
 """
 import argparse
 import os
@@ -60,7 +71,7 @@ parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--output", default=os.path.join(os.path.dirname(os.path.abspath(__file__)),
                                                      "output", "demo_plain_weave"))
 parser.add_argument("--fibres", type=int, default=7, help="fibres per yarn")
-parser.add_argument("--packing", default="layers 1",
+parser.add_argument("--packing", default="hexagonal",
                     help='fibres in the yarn section: "layers 1" (flat), "hexagonal", ...')
 parser.add_argument("--elements", type=int, default=4,
                     help="fibre elements between neighbouring crossings")

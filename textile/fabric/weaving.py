@@ -146,9 +146,10 @@ class Weaving:
         self.relaxation_steps = _count(relaxation_steps, "relaxation_steps")
         self.settling_steps = _count(settling_steps, "settling_steps")
         if isinstance(amplitude, bool) or not isinstance(amplitude, numbers.Real) \
-                or not 0.5 < amplitude < 5:
+                or not 0.3 < amplitude < 5:
             raise ValueError(f"Weaving: amplitude is a fraction of the yarns' height in "
-                             f"(0.5, 5) (below 0.5 the lifted yarns still overlap), got "
+                             f"(0.3, 5) (below 0.3 the lifted yarns' fibres may still lie on the "
+                             f"wrong side of each other), got "
                              f"{amplitude!r}")
         if isinstance(tension, bool) or not isinstance(tension, numbers.Real) \
                 or not math.isfinite(tension) or tension <= 0 or tension >= 0.1:
