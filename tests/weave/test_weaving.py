@@ -156,6 +156,21 @@ def test_flat_yarns_weave_the_same_on_two_ranks():
     assert np.abs(q1[:, 3:] - qn[:, 3:]).max() < 1e-13
 
 
+@pytest.mark.mpi
+def test_bundles_weave_the_same_on_two_ranks():
+    """The lifting weave of 7-fibre bundles (the main demo's) on all ranks
+    ends where the one-rank weave does, through the same steps (issue 20
+    asks 1e-8 of the spacing; measured 7e-16). The 3-fibre weave does not:
+    its path forks at a contact-loop decision taken on round-off (9e-5 of
+    the spacing apart; see the weaving issue's note)."""
+    (w1, s1), (wn, sn) = (woven(2, 7, spacing=2.0, free_length=1.0, comm=comm)
+                          for comm in (MPI.COMM_SELF, MPI.COMM_WORLD))
+    assert [(h.stage, h.load_factor, h.newton_iterations) for h in s1.history] == \
+        [(h.stage, h.load_factor, h.newton_iterations) for h in sn.history]
+    q1, qn = w1.model.nodal_unknowns(), wn.model.nodal_unknowns()
+    assert np.abs(q1[:, 0:3] - qn[:, 0:3]).max() < 1e-8 * w1.fabric.spacing[0]
+
+
 def test_resumed_from_the_woven_state_equals_the_continuous_run(tmp_path):
     """Weave, save (unknowns, rigid bodies, contact history and mode, yarn
     ids), load into a fresh scene and relax: the same state as weaving and
