@@ -11,7 +11,7 @@ import pytest
 from mpi4py import MPI
 
 import textile
-from textile.effects.fibre_contact import FibreContact
+from textile.effects.fibre_contact import ContactOptions, FibreContact
 from textile.effects.weaving_contact import weaving_mode, yarn_above
 from textile.fabric import Fabric, WeavePattern, Yarn
 
@@ -166,3 +166,17 @@ def test_within_yarns_mode_leaves_crossing_yarns_without_contact():
     contact.prepare(model)
     d = contact.elements()
     assert np.any(yarn[d["fibre_i"]] != yarn[d["fibre_j"]])
+
+
+def test_update_tolerance_is_a_stage_option():
+    """A stage may loosen the contact loop's tolerance (the lifting weave's
+    settling does); a bad value is named; the options a user passed are
+    not changed."""
+    options = ContactOptions()
+    contact = FibreContact(options)
+    contact.configure(update_tolerance=1e-2)
+    assert contact.options.update_tolerance == 1e-2
+    assert options.update_tolerance == 1e-3
+    for bad in (0.0, -1.0, float("nan"), True, "1e-2"):
+        with pytest.raises(ValueError, match="update_tolerance must be a number > 0"):
+            contact.configure(update_tolerance=bad)

@@ -163,7 +163,8 @@ def bad_stages(model, force, pull):
         (dict(name="", ramp={}), ValueError, "name must be a non-empty string"),
         (dict(name="options", effects={contact: dict(mode="weaving", speed=2)}), ValueError,
          r"unknown stage option\(s\) \['speed'\] of FibreContact; allowed: "
-         r"\['fibre_yarn', 'friction', 'make_up_penetrations', 'mode', 'yarn_above'\]"),
+         r"\['fibre_yarn', 'friction', 'make_up_penetrations', 'mode', 'update_tolerance', "
+         r"'yarn_above'\]"),
         (dict(name="no options", effects={model.beam: dict(stiff=True)}), ValueError,
          r"unknown stage option\(s\) \['stiff'\] of .*; allowed: none"),
         (dict(name="effect", effects={"contact": {}}), TypeError, "effects keys must be "

@@ -122,7 +122,7 @@ def test_bad_weaving_options():
     with pytest.raises(ValueError, match="method must be one of"):
         Weaving(fab, method="jacquard", comm=MPI.COMM_SELF)
     with pytest.raises(ValueError, match="amplitude"):
-        Weaving(fab, method="lifting", amplitude=0.4, comm=MPI.COMM_SELF)
+        Weaving(fab, method="lifting", amplitude=0.2, comm=MPI.COMM_SELF)
     with pytest.raises(ValueError, match="tails of at least one spacing"):
         Weaving(fab, method="lifting", comm=MPI.COMM_SELF)   # free_length: half a spacing
     with pytest.raises(ValueError, match="steps must be an integer >= 1"):
