@@ -6,6 +6,7 @@ from mpi4py import MPI
 
 import textile
 from textile.fabric import Fabric, Weaving, Yarn, measures as fm
+from tests.stability import guard
 
 R = 0.1e-3
 MAT = textile.Material(5.0e9, 0.35)
@@ -169,6 +170,8 @@ def test_bundles_weave_the_same_on_two_ranks():
         [(h.stage, h.load_factor, h.newton_iterations) for h in sn.history]
     q1, qn = w1.model.nodal_unknowns(), wn.model.nodal_unknowns()
     assert np.abs(q1[:, 0:3] - qn[:, 0:3]).max() < 1e-8 * w1.fabric.spacing[0]
+    # the stability suite's guard on the main demo's Newton counts
+    guard.newton_count("weave_bundles_7_lifting", sn)
 
 
 def test_resumed_from_the_woven_state_equals_the_continuous_run(tmp_path):
