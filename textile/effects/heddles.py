@@ -2,10 +2,15 @@
 under, the yarns it crosses (the lifting weave, docs/method.md §6.4).
 
 On a loom, heddles lift the warps that pass over a weft and leave down the
-others. Here every node of a fibre near a crossing of its yarn is pulled
-vertically towards the height its yarn takes there, by a spring:
+others. Here every node of a fibre near a crossing of its yarn is pushed
+vertically towards the height its yarn takes there, by a one-sided spring
+(a shelf: it pushes a node that is on the wrong side of it, never pulls):
 
-    r_z += k w(t) (u_z - lift * sigma * A),
+    r_z += -sigma k w(t) g(p),   p = sigma (lift sigma A - u_z),
+
+g(p) = 0 for p <= 0, p^2 / (2 delta) up to delta = 0.05 A, then
+p - delta / 2 (the contact's regularized penalty law, so the push starts
+smoothly and Newton does not cycle on it); with
 
 - u_z the node's vertical displacement (so a bundle keeps its shape: each
   fibre is lifted from its own starting height);
@@ -17,13 +22,14 @@ vertically towards the height its yarn takes there, by a spring:
   yarn, so the yarn between crossings and near its ends is free);
 - sigma = +1 where the yarn passes over the yarn it crosses, -1 under
   (the fabric's weave pattern); A the amplitude, lift in [0, 1] its
-  share at the stage's load factor (a stage option);
+  share at the stage's load factor (a stage option); p > 0: the node is
+  below the shelf of a yarn passing over (above it, under);
 - k = stiffness x 12 E I / L^3, E I the fibre's bending stiffness and L its
   element length: in units of the fibre's own softest stiffness, as
   :class:`~textile.effects.viscous_drag.ViscousDrag`'s.
 
 The force is vertical only, like a frictionless heddle eye's: it does not
-derive from a potential (its tangent has the term k w'(t) (u_z - ...) in
+derive from a potential (its tangent has the term -sigma k w'(t) g(p) in
 the row of u_z and the column of the node's axial coordinate; the tangent
 is not symmetric). The heddles belong to the weaving's artificial path:
 the stage after them fades ``stiffness`` to 0, and the converged state of
@@ -111,12 +117,10 @@ class Heddles(Effect):
     def _value(self, v, s: float, name: str) -> float:
         if not callable(v):
             return v
-        value = v(s)
-        if name == "lift":
-            if not -1 <= float(value) <= 1:
-                raise ValueError(f"Heddles: lift must be in [-1, 1], got {value!r}")
-            return float(value)
-        return _fraction(value, name)
+        value = _fraction(v(s), name)
+        if name == "lift" and value > 1:
+            raise ValueError(f"Heddles: lift must be in [0, 1], got {value!r}")
+        return value
 
     # -- set-up --------------------------------------------------------------
     def setup(self, model) -> None:
