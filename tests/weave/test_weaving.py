@@ -114,8 +114,9 @@ def test_bundles_weave_by_lifting():
     # flattened: 3.7 R high and 4 R wide at the start, 2.6 R x 5.8 R woven
     # (measured); a round bundle would keep height/width 0.93
     assert s["warp section height"] / s["warp section width"] < 0.6
-    # Newton guard (measured 788 iterations, failed attempts counted)
-    assert solver.counters["newton_iterations"] <= 1000
+    # Newton guard (measured 571 iterations, failed attempts counted; 788
+    # with the default contact-loop tolerance in the settling stage)
+    assert solver.counters["newton_iterations"] <= 860
 
 
 def test_bad_weaving_options():
