@@ -177,21 +177,12 @@ _ELASTICA = {}
 
 
 def elastica_tip(kk: float) -> np.ndarray:
-    """Tip of the inextensible elastica, k = P L^2 / (E I): (x, z) / L
-    (scipy's BVP solver; the same equations as tests/stability/test_extremes.py)."""
+    """Tip of the inextensible elastica, k = P L^2 / (E I): (x, z) / L, from
+    the stability suite's BVP solution (tests/stability/test_extremes.py)."""
     if kk not in _ELASTICA:
-        import scipy.integrate
-
-        def rhs(s, y):  # y = (theta, theta', x, z)
-            return np.vstack([y[1], -kk * np.cos(y[0]), np.cos(y[0]), np.sin(y[0])])
-
-        def bc(a, b):
-            return np.array([a[0], b[1], a[2], a[3]])
-        s = np.linspace(0, 1, 201)
-        guess = np.vstack([0.5 * s, 0.5 * np.ones_like(s), s, 0 * s])
-        sol = scipy.integrate.solve_bvp(rhs, bc, s, guess, tol=1e-12, max_nodes=200000)
-        assert sol.success
-        _ELASTICA[kk] = np.array([sol.y[2, -1], sol.y[3, -1]])
+        from tests.stability.test_extremes import elastica_tip as shortening_and_deflection
+        shortening, deflection = shortening_and_deflection(kk)
+        _ELASTICA[kk] = np.array([1 - shortening, deflection])
     return _ELASTICA[kk]
 
 
