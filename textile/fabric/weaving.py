@@ -122,10 +122,9 @@ class Weaving:
     HEDDLE_STIFFNESS = 30.0
     #: the contact loop's tolerance while the heddles let go: the settling
     #: path is artificial, only the relaxation's state is an answer; its
-    #: passes converge linearly at a rate of about 0.6 as the crossings'
-    #: normals turn (measured on the 3-fibre weave), so 1e-2 takes half the
-    #: passes of the default 1e-3 (7-fibre weave: 279 Newton iterations
-    #: instead of 414, crimp the same to 4 digits)
+    #: passes converge linearly as the crossings' normals turn, so 1e-2
+    #: takes about half the passes of the default 1e-3 for the same woven
+    #: state (measured: benchmarks/README.md, "Bundles")
     SETTLING_UPDATE_TOLERANCE = 1e-2
 
     def __init__(self, fabric: Fabric, steps: int = 5,
