@@ -40,10 +40,13 @@ MAT = textile.Material(5.0e9, 0.35)
 
 
 def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, packing: str,
-          solver_options: dict, comm, weaving_steps: int = 5) -> dict:
+          solver_options: dict, comm, weaving_steps: int = 5,
+          free_length: float | None = None) -> dict:
     yarn = Yarn(fibres, R, MAT, packing=packing)
     fabric = Fabric(yarn, num_warp=yarns, num_weft=yarns, spacing=spacing * yarn.width,
-                    pattern=pattern, elements_per_crossing=elements)
+                    pattern=pattern, elements_per_crossing=elements,
+                    free_length=None if free_length is None
+                    else free_length * spacing * yarn.width)
     weaving = Weaving(fabric, steps=weaving_steps, comm=comm)
     model = weaving.model
     t0 = time.perf_counter()
@@ -67,7 +70,8 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
     name = pattern.replace(" ", "_").replace("/", "-")
     textile.save_state(model, os.path.join(OUT, f"weave_sample_{name}.h5"), solver,
                        fibre_data={"yarn": fabric.fibre_yarn})
-    return dict(pattern=pattern, fibres_per_yarn=fibres, packing=packing,
+    return dict(pattern=pattern, yarns=yarns, fibres_per_yarn=fibres, packing=packing,
+                free_length=fabric.free_length / fabric.spacing[0],
                 spacing_in_widths=spacing, weaving_steps=weaving_steps,
                 solver_options=solver_options, size=size, wall_seconds=wall,
                 counters=solver.counters, steps=steps, summary=summary, error=error)
@@ -75,7 +79,7 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
 
 def run_key(r: dict) -> tuple:
     return (r["pattern"], r.get("fibres_per_yarn"), r.get("packing"), r.get("spacing_in_widths"),
-            r.get("weaving_steps", 5))
+            r.get("weaving_steps", 5), r.get("yarns", 6))
 
 
 def earlier_runs(path: str, args) -> list[dict]:
@@ -86,7 +90,7 @@ def earlier_runs(path: str, args) -> list[dict]:
         return []
     with open(path) as f:
         before = json.load(f)
-    now = {(p, args.fibres, args.packing, args.spacing, args.weaving_steps)
+    now = {(p, args.fibres, args.packing, args.spacing, args.weaving_steps, args.yarns)
            for p in args.patterns}
     return [dict(dict(date=before.get("date"), ranks=before.get("ranks")), **r)
             for r in before.get("runs", []) if run_key(r) not in now]
@@ -101,7 +105,11 @@ def main():
                         help="fibre elements between neighbouring crossings")
     parser.add_argument("--spacing", type=float, default=2.0, help="yarn spacing in yarn widths")
     parser.add_argument("--packing", default="layers 1",
-                        help="fibre packing in the yarn section: 'layers n' or 'hexagonal'")
+                        help="fibre packing in the yarn section: 'layers n', 'hexagonal' or "
+                             "'round'")
+    parser.add_argument("--free-length", type=float, default=None,
+                        help="yarn tails beyond the outer crossings, in spacings (default: "
+                             "Fabric's, one spacing for bundles, half for flat rows)")
     parser.add_argument("--weaving-steps", type=int, default=5,
                         help="steps of the weaving stage (Weaving.steps)")
     parser.add_argument("--solver", type=json.loads, default={},
@@ -115,7 +123,7 @@ def main():
     runs = earlier_runs(path, args) if comm.rank == 0 else []
     for pattern in args.patterns:
         r = weave(pattern, args.fibres, args.yarns, args.elements, args.spacing, args.packing,
-                  args.solver, comm, args.weaving_steps)
+                  args.solver, comm, args.weaving_steps, args.free_length)
         r.update(date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), ranks=comm.size,
                  machine=runtime.describe())
         runs.append(r)

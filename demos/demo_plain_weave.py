@@ -83,10 +83,11 @@ args = parser.parse_args()
 R = 0.1e-3
 mat = textile.Material(5.0e9, 0.35)
 yarn = Yarn(args.fibres, R, mat, packing=args.packing)  # fibres touching
-bundle = yarn.height > 2 * R * (1 + 1e-9)   # more than one fibre high: woven by lifting
 spacing = args.spacing * yarn.width
+# Tails beyond the outer crossings: one spacing for bundles (woven by
+# lifting, they crimp and pull their ends in), half for flat rows.
 fabric = Fabric(yarn, num_warp=2, num_weft=2, spacing=spacing, pattern="plain",
-                elements_per_crossing=args.elements, free_length=spacing if bundle else None)
+                elements_per_crossing=args.elements)
 comm = MPI.COMM_WORLD
 if comm.rank == 0:
     print(fabric)

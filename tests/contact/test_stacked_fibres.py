@@ -39,7 +39,7 @@ MAT = textile.Material(5.0e9, 0.35)
 def test_stacked_yarns_settle_within_each_step():
     yarn = Yarn(3, R, MAT, packing="hexagonal", friction=0.0)
     fab = Fabric(yarn, num_warp=2, num_weft=2, spacing=2.0 * yarn.width, pattern="plain",
-                 elements_per_crossing=4)
+                 elements_per_crossing=4, free_length=yarn.width)   # the ordered weave's tails
     w = Weaving(fab, comm=MPI.COMM_SELF, method="ordered")   # the ordered contact loop
     solver = textile.Solver(w.model, dict(verbose=False))
     weaving, _ = w.stages()

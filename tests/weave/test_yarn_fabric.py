@@ -293,8 +293,13 @@ def test_starting_state_is_straight_coplanar_interpenetrating():
     (i, j, point, warp_on_top), = [c for c in fab.crossings() if c[0] == 1 and c[1] == 0]
     assert point == pytest.approx([-5 * R, -4 * R, 0])
     assert warp_on_top == bool(fab.order[1, 0]) == False  # noqa: E712 (plain weave)
-    # warps span the wefts plus the free length (half the smallest spacing)
+    # warps span the wefts plus the free length (bundles: the smallest spacing)
     a, b = fab.yarn_axis(0)
+    assert b[0] - a[0] == pytest.approx(3 * 10 * R + 2 * 8 * R)
+    # yarns one fibre high: half the smallest spacing
+    flat = Fabric(Yarn(3, R, MAT, packing="layers 1"), num_warp=2, num_weft=4,
+                  spacing=(8 * R, 10 * R))
+    a, b = flat.yarn_axis(0)
     assert b[0] - a[0] == pytest.approx(3 * 10 * R + 2 * 4 * R)
 
 

@@ -91,7 +91,10 @@ class Fabric:
         A :class:`~textile.fabric.weave_pattern.WeavePattern`, a name ("plain",
         "twill 2/2", ...) or a 0/1 matrix.
     free_length:
-        Yarn length beyond the last crossing (default: half the spacing).
+        Yarn length beyond the last crossing (default: one spacing for
+        bundles, which weave by lifting and need it
+        (:class:`~textile.fabric.weaving.Weaving`); half a spacing for yarns
+        one fibre high).
     elements_per_crossing:
         Fibre elements between two neighbouring crossings (and over a free
         length of half a spacing), an integer >= 1; a twisted yarn needs
@@ -139,8 +142,10 @@ class Fabric:
         self.num_warp, self.num_weft = int(num_warp), int(num_weft)
         self.pattern = WeavePattern.of(pattern)
         self.order = self.pattern.tile(self.num_weft, self.num_warp)
-        self.free_length = 0.5 * min(self.spacing) if free_length is None \
-            else _positive(free_length, "free_length")
+        if free_length is None:
+            bundles = any(y.height > 2 * y.radius * (1 + ROUND_OFF) for y in (warp, weft))
+            free_length = (1.0 if bundles else 0.5) * min(self.spacing)
+        self.free_length = _positive(free_length, "free_length")
         self.elements_per_crossing = int(elements_per_crossing)
         self.element_order = int(order)
         self._fibres = None
