@@ -144,6 +144,52 @@ def options(name: str | None = None, **overrides) -> dict:
     return out
 
 
+# -- what the scene classes call (``preset=`` of Fabric, Weaving, Sample,
+# Composite and the virtual tests): the preset's knob unless the user gave one
+def checked(name: str | None, who: str) -> str:
+    """The preset ``name`` (None: :data:`DEFAULT`); ValueError naming the
+    scene class ``who`` and the presets for an unknown name."""
+    if name is None:
+        return DEFAULT
+    if not isinstance(name, str) or name not in PRESETS:
+        raise ValueError(f"{who}: unknown accuracy preset {name!r}; known: "
+                         f"{', '.join(PRESETS)}")
+    return name
+
+
+def knob(name: str | None, block: str, key: str, given=None):
+    """``given`` if the user gave it (not None), else preset ``name``'s
+    ``block[key]`` (e.g. ``knob("fine", "fabric", "elements_per_crossing",
+    None)`` -> 8)."""
+    return given if given is not None else PRESETS[DEFAULT if name is None else name][block][key]
+
+
+def contact(name: str | None, given=None):
+    """A scene's contact options under preset ``name``: a ``ContactOptions``
+    as given (every field of it is the user's), a dict over the preset's
+    contact block key by key, None the preset's block (checked where the
+    contact is built: :class:`~textile.effects.fibre_contact.FibreContact`)."""
+    from .effects.fibre_contact import ContactOptions
+    if isinstance(given, ContactOptions):
+        return given
+    if not (given is None or isinstance(given, dict)):
+        return given        # refused, by name, where the contact is built
+    block = preset(DEFAULT if name is None else name)["contact"]
+    return block if given is None else dict(block, **given)
+
+
+def solver(name: str | None, given=None):
+    """A scene's solver options under preset ``name``: as :func:`contact`,
+    for :class:`~textile.solver.SolverOptions`."""
+    from .solver.options import SolverOptions
+    if isinstance(given, SolverOptions):
+        return given
+    if not (given is None or isinstance(given, dict)):
+        return given        # refused, by name, where the solver is built
+    block = preset(DEFAULT if name is None else name)["solver"]
+    return block if given is None else dict(block, **given)
+
+
 def element(name: str | None = None, **overrides):
     """The :class:`~textile.BeamElement` of preset ``name`` (``overrides``:
     its fields, e.g. ``order=1``)."""

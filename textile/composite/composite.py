@@ -34,6 +34,7 @@ import numbers
 import numpy as np
 from mpi4py import MPI
 
+from .. import presets
 from ..beam.material import Material
 from ..block_nodes import BlockNodes
 from ..effects.elastic_block import DEGREES, LAWS, ElasticBlock
@@ -61,19 +62,21 @@ class Composite(Sample):
 
     Parameters
     ----------
-    fabric, woven, contact, comm:
-        As :class:`~textile.fabric.sample.Sample`'s.
+    fabric, woven, contact, preset, comm:
+        As :class:`~textile.fabric.sample.Sample`'s; the accuracy
+        ``preset`` (:mod:`textile.presets`; None: "standard") also sets
+        ``size`` and ``degree`` unless they are given.
     matrix:
         The matrix's :class:`~textile.beam.material.Material` (Young's modulus,
         Poisson ratio).
     size:
-        Target edge length of the matrix tetrahedra (default four fibre
-        diameters).
+        Target edge length of the matrix tetrahedra (default the preset's,
+        in fibre radii: standard 8, four fibre diameters).
     overlap:
         Matrix skin above the highest and below the lowest fibre surface
         (default a quarter of the fibre radius).
     degree:
-        1 or 2 (default): Lagrange degree of the matrix displacement. A
+        1 or 2 (default: the preset's, 2 in each): Lagrange degree of the matrix displacement. A
         thin composite has one or two coarse tetrahedra through its
         thickness: linear ones lock in bending (4.12 times the P2
         stiffness on the tests' 2 x 2 monofilament composite,
@@ -90,17 +93,20 @@ class Composite(Sample):
     """
 
     def __init__(self, fabric: Fabric, woven: str | None, matrix: Material,
-                 size: float | None = None, overlap: float | None = None, degree: int = 2,
-                 law: str = "neo-hookean", junction_stiffness: float | None = None,
-                 sides=("xmin", "xmax"), contact=None, comm=MPI.COMM_WORLD):
+                 size: float | None = None, overlap: float | None = None,
+                 degree: int | None = None, law: str = "neo-hookean",
+                 junction_stiffness: float | None = None, sides=("xmin", "xmax"), contact=None,
+                 preset: str | None = None, comm=MPI.COMM_WORLD):
         if not isinstance(fabric, Fabric):
             raise TypeError(f"Composite: fabric must be a textile.fabric.Fabric, got "
                             f"{type(fabric).__name__}")
         if not isinstance(matrix, Material):
             raise TypeError(f"Composite: matrix must be a textile.Material, got "
                             f"{type(matrix).__name__}")
+        preset = presets.checked(preset, "Composite")
         radius = max(f.radius for f in fabric.fibres())
-        size = 8.0 * radius if size is None else size
+        size = presets.knob(preset, "matrix", "size_radii") * radius if size is None else size
+        degree = presets.knob(preset, "matrix", "degree", degree)
         overlap = 0.25 * radius if overlap is None else overlap
         for name, v in (("size", size), ("overlap", overlap)):
             if isinstance(v, bool) or not isinstance(v, numbers.Real) or not np.isfinite(v) \
@@ -122,7 +128,7 @@ class Composite(Sample):
         self._matrix = dict(material=matrix, size=size, overlap=overlap, degree=degree, law=law,
                             junction_stiffness=junction_stiffness)
         super().__init__(fabric, woven, sides=sides, contact=contact, free_ends="fibres",
-                         comm=comm)
+                         preset=preset, comm=comm)
 
     @property
     def matrix(self) -> Material:
