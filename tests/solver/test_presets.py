@@ -87,6 +87,16 @@ def test_overrides_win_and_unknown_names_are_refused():
     assert presets.element("fine", order=1) == textile.BeamElement(order=1, section_order=4)
 
 
+def test_the_documented_bounds_are_the_tested_ones():
+    """presets' docstring tabulates BOUNDS: the table must not drift from it."""
+    rows = {line.split()[0]: [float(x) for x in line.split()[1:]]
+            for line in presets.__doc__.splitlines() if line.split()[:1] and
+            line.split()[0] in presets.names()}
+    for name in presets.names():
+        b = presets.BOUNDS[name]
+        assert rows[name] == [b["weave"], b["composite"], b["crossed"], b["capstan"]], name
+
+
 def _monofilament(**options) -> Fabric:
     """The tests' 2 x 2 monofilament plain weave (tests/woven_states.py)."""
     return Fabric(YARN, spacing=6 * YARN.width, **options)
