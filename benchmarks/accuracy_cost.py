@@ -307,31 +307,12 @@ def capstan(k) -> Run:
     return Run(abs(ratios[-1] / thick - 1), [s], f"T2/T1 = {ratios[-1]:.6f}")
 
 
-def _rotation(phi):
-    c, s = np.cos(phi), np.sin(phi)
-    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
-
-
 def twisted(k) -> Run:
     """tests/contact/test_twisted_pair.py's scene (one full turn)."""
-    E, nu, R, L = 1.0e9, 0.3, 5e-4, 0.02
-    mat = Material(E, nu)
+    from tests.contact import test_twisted_pair as tp
     n = k["elements"]
-    fibres = [straight_fibre([sg * R, 0, 0], [sg * R, 0, L], R, mat, num_elements=n,
-                             order=order_of(k), section_vector=[1, 0, 0]) for sg in (1, -1)]
-    model = Model(fibres, element_of(k), comm=MPI.COMM_SELF)
-    for f in fibres:
-        model.clamp(f, 0)
-        X, G1, G2 = f.points[-1], f.g1[-1], f.g2[-1]
-
-        def top(t, X=X, G1=G1, G2=G2):
-            Q = _rotation(2 * np.pi * t)
-            return list((Q @ X - X)[:2]) + list(Q @ G1 - G1) + list(Q @ G2 - G2)
-
-        model.fix(f, -1, ["x", "y", "g1", "g2"], top)
-        model.add_force(f, -1, [0, 0, 1.0])
-    contact = FibreContact(contact_options(k, L / n, friction=0.0))
-    model.add_effect(contact)
+    model, fibres, contact = tp.twisted_pair(n, order_of(k), element_of(k),
+                                             contact_options(k, tp.L / n))
     h = 1.0 / k["steps"]
     s = Solver(model, solver_options(k, initial_step=min(0.02, h), max_step=h,
                                      min_step=min(h, 1e-4)))
@@ -339,11 +320,7 @@ def twisted(k) -> Run:
         s.solve()
     except textile.ConvergenceError:
         return Run(math.nan, [s], "no convergence")
-    q = model.nodal_unknowns()
-    forces = contact.set.nodal_forces(np.ascontiguousarray(q)).reshape(-1, 9)[:, :3]
-    nn = fibres[0].num_nodes
-    f0, f1 = forces[:nn], forces[nn:]
-    return Run(np.abs(f0 - f1 @ _rotation(np.pi).T).max() / np.abs(forces).max(), [s])
+    return Run(tp.symmetry_error(model, fibres, contact), [s])
 
 
 # -- fabric cases -----------------------------------------------------------------------------
