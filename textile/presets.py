@@ -2,7 +2,9 @@
 ``"fine"`` (issue 21 §3).
 
 Each preset sets the same knobs, chosen from the Pareto fronts of
-``benchmarks/accuracy_cost.py`` (report: ``benchmarks/accuracy_cost.md``):
+``benchmarks/accuracy_cost.py`` (report: ``benchmarks/accuracy_cost.md``;
+what each preset measured, and how to measure it again:
+``benchmarks/README.md``, "What accuracy costs"):
 
 - ``solver``: the Newton tolerances (:class:`~textile.solver.SolverOptions`
   ``rtol``, ``stol``, ``atol``) and ``reuse_factorization``;
@@ -16,37 +18,47 @@ Each preset sets the same knobs, chosen from the Pareto fronts of
 - ``matrix``: the matrix tetrahedra's size in fibre radii and their degree
   (:class:`~textile.composite.Composite`).
 
-``"standard"`` is exactly the defaults of those classes
-(tests/solver/test_presets.py checks it field by field): a scene that
-names no preset, or ``"standard"``, runs as before presets existed.
+What each sets (:data:`PRESETS`):
 
-What each preset measured (``benchmarks/accuracy_cost.md``, 2026-12-01,
-one core; errors against references that are not the run itself;
-``BOUNDS`` holds the bounds the tests hold them to):
-
-- ``draft``: Newton tolerances 1e-6 (0-42% fewer Newton iterations; no
-  error changed by more than 1.3%: the capstan's 1.006e-4 to 0.993e-4),
-  contact update tolerance
+- ``draft``: Newton tolerances 1e-6 (atol 1e-9), contact update tolerance
   1e-2, 2 elements a crossing, 3 weaving steps, matrix tetrahedra of 12
-  fibre radii. The small weave's crimp 13% off in 0.56x the time of
-  standard; the composite's bending stiffness 6.6% off in 0.28x.
-- ``standard``: crimp 7.1% off (mostly the penalty law's penetration:
-  g_r = 0.02 R at a target of 2 g_r), composite 2.8% off (the matrix
-  mesh), a crossing's contact force 17% below hard contact (penetration
-  0.035 R against a deflection of 0.2 R).
-- ``fine``: g_r = 0.005 R at a target of 1 g_r, 8 elements a crossing,
-  matrix tetrahedra of 4 radii: crimp 1.2% off in 2.3x the time of
-  standard, composite 0.86% off in 4.1x, the crossing's force 2.2% off
-  in the same time. The capstan's tension ratio is 6.3e-4 off instead of
-  1.0e-4 (its error wanders between 5e-6 and 5e-4 with every contact knob,
-  not falling with any).
+  fibre radii; the rest as standard.
+- ``standard``: exactly the defaults of those classes
+  (tests/solver/test_presets.py checks it field by field): a scene that
+  names no preset, or ``"standard"``, runs as before presets existed.
+  Newton tolerances 1e-10 (atol 1e-13), g_r = 0.02 R at a target
+  penetration of 2 g_r, update tolerance 1e-3, 4 elements a crossing, 5
+  weaving steps, matrix tetrahedra of 8 fibre radii, P2.
+- ``fine``: standard with g_r = 0.005 R at a target of 1 g_r, 8 elements a
+  crossing and matrix tetrahedra of 4 fibre radii.
 
-The beam knobs stay the same in every preset: quadratic elements with 2
-axial points and section order 4 are exact for the straight beam and cost
-nothing extra (section order 2 is 2e-3 off on the roll-up and breaks the
-twisted pair's symmetry by 8e-3; 6 and 8 change nothing). The elements of
-fibres a scene builds itself (``straight_fibre(num_elements=...)``) are the
-scene's: no preset sets them.
+Every preset keeps quadratic elements with section order 4, the penalty
+adaptation and its band (0.5, 2), the proximity criterion 2 and one
+factorization a Newton iteration. The elements of fibres a scene builds
+itself (``straight_fibre(num_elements=...)``) are the scene's: no preset
+sets them.
+
+Documented error bounds (:data:`BOUNDS`; tests/solver/test_presets.py
+holds the weave and the composite to them), per case of
+``benchmarks/accuracy_cost.py``:
+
+========== ================ ===================== ================ ==========
+preset     weave crimp      composite stiffness   crossed force    capstan
+========== ================ ===================== ================ ==========
+draft      0.2              0.1                   0.25             1e-3
+standard   0.1              0.04                  0.25             1e-3
+fine       0.02             0.013                 0.035            1e-3
+========== ================ ===================== ================ ==========
+
+(weave: the crimp of the 2 x 2 monofilament weave against its
+extrapolated reference; composite: its bending stiffness over the plate
+formula against the run on a matrix of 2 fibre radii; crossed: a pressed
+crossing's contact force against hard contact; capstan: the tension ratio
+against exp(mu theta R / (R + r)); all relative.)
+
+Scene classes take a preset in one argument, ``preset=`` (:func:`checked`,
+:func:`knob`, :func:`contact`, :func:`solver`: the preset's knob unless the
+user gave one); scene files in ``scene.preset``.
 """
 from __future__ import annotations
 
@@ -87,12 +99,8 @@ PRESETS = {
 DEFAULT = "standard"
 
 #: documented error bounds per preset and case of benchmarks/accuracy_cost.py
-#: (about 1.5 times the error measured on 2026-12-01; tests/solver/
-#: test_presets.py holds the weave and composite to them): weave = crimp of
-#: the 2 x 2 monofilament weave against its extrapolated reference,
-#: composite = its bending stiffness over the plate formula against the run
-#: on a matrix of 2 fibre radii, crossed = a crossing's contact force against hard contact,
-#: capstan = the tension ratio against exp(mu theta R / (R + r))
+#: (module docstring): about 1.5 times the errors measured (benchmarks/
+#: README.md, "What accuracy costs")
 BOUNDS = {
     "draft": dict(weave=0.2, composite=0.1, crossed=0.25, capstan=1e-3),
     "standard": dict(weave=0.1, composite=0.04, crossed=0.25, capstan=1e-3),
@@ -142,6 +150,52 @@ def options(name: str | None = None, **overrides) -> dict:
     SolverOptions.from_dict(out["solver"])
     ContactOptions.from_dict(out["contact"])
     return out
+
+
+# -- what the scene classes call (``preset=`` of Fabric, Weaving, Sample,
+# Composite and the virtual tests): the preset's knob unless the user gave one
+def checked(name: str | None, who: str) -> str:
+    """The preset ``name`` (None: :data:`DEFAULT`); ValueError naming the
+    scene class ``who`` and the presets for an unknown name."""
+    if name is None:
+        return DEFAULT
+    if not isinstance(name, str) or name not in PRESETS:
+        raise ValueError(f"{who}: unknown accuracy preset {name!r}; known: "
+                         f"{', '.join(PRESETS)}")
+    return name
+
+
+def knob(name: str | None, block: str, key: str, given=None):
+    """``given`` if the user gave it (not None), else preset ``name``'s
+    ``block[key]`` (e.g. ``knob("fine", "fabric", "elements_per_crossing",
+    None)`` -> 8)."""
+    return given if given is not None else PRESETS[DEFAULT if name is None else name][block][key]
+
+
+def contact(name: str | None, given=None):
+    """A scene's contact options under preset ``name``: a ``ContactOptions``
+    as given (every field of it is the user's), a dict over the preset's
+    contact block key by key, None the preset's block (checked where the
+    contact is built: :class:`~textile.effects.fibre_contact.FibreContact`)."""
+    from .effects.fibre_contact import ContactOptions
+    if isinstance(given, ContactOptions):
+        return given
+    if not (given is None or isinstance(given, dict)):
+        return given        # refused, by name, where the contact is built
+    block = preset(DEFAULT if name is None else name)["contact"]
+    return block if given is None else dict(block, **given)
+
+
+def solver(name: str | None, given=None):
+    """A scene's solver options under preset ``name``: as :func:`contact`,
+    for :class:`~textile.solver.SolverOptions`."""
+    from .solver.options import SolverOptions
+    if isinstance(given, SolverOptions):
+        return given
+    if not (given is None or isinstance(given, dict)):
+        return given        # refused, by name, where the solver is built
+    block = preset(DEFAULT if name is None else name)["solver"]
+    return block if given is None else dict(block, **given)
 
 
 def element(name: str | None = None, **overrides):

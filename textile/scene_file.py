@@ -267,7 +267,8 @@ def _schema():
                     "size_radii": (number(positive=True), None), "degree": (integer(1), None),
                     "law": (string(("neo-hookean", "svk")), None),
                     "overlap": (number(minimum=0.0), None),
-                    "junction_stiffness": (number(positive=True), None)})
+                    "junction_stiffness": (number(positive=True), None),
+                    "junction_spacing": (number(positive=True), None)})
     fibre = table({"name": (string(), REQUIRED), "start": (vector(), REQUIRED),
                    "end": (vector(), REQUIRED), "radius": (number(positive=True), REQUIRED),
                    "material": (string(), REQUIRED), "elements": (integer(1), 10),
@@ -884,7 +885,8 @@ class Scene:
         if matrix is not None:
             radius = max(y.radius for y in (fabric.warp, fabric.weft))
             composite = {k: matrix[k] for k in ("degree", "law", "overlap",
-                                                "junction_stiffness") if matrix[k] is not None}
+                                                "junction_stiffness", "junction_spacing")
+                         if matrix[k] is not None}
             composite.setdefault("degree", self.preset()["matrix"]["degree"])
             composite["size"] = matrix["size"] if matrix["size"] is not None else (
                 matrix["size_radii"] or self.preset()["matrix"]["size_radii"]) * radius

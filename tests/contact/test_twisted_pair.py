@@ -15,17 +15,26 @@ import textile
 from textile.effects.fibre_contact import FibreContact
 
 
+E, NU, R, L = 1.0e9, 0.3, 5e-4, 0.02
+
+
 def rotation(phi):
     c, s = np.cos(phi), np.sin(phi)
     return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
 
 
-def test_twisted_pair_one_turn():
-    E, nu, R, L = 1.0e9, 0.3, 5e-4, 0.02
-    mat = textile.Material(E, nu)
-    fibres = [textile.straight_fibre([s * R, 0, 0], [s * R, 0, L], R, mat, num_elements=24,
+def twisted_pair(elements: int = 24, order: int = 2, element=None, contact=None,
+                 comm=MPI.COMM_SELF):
+    """The scene (module docstring), to be solved from load factor 0 to 1
+    (one turn); returns (model, fibres, contact). ``elements`` and ``order``:
+    each fibre's; ``element``: the BeamElement, ``contact``: ContactOptions
+    as a dict (frictionless unless it says otherwise), both default
+    textile's (benchmarks/accuracy_cost.py sweeps them)."""
+    mat = textile.Material(E, NU)
+    fibres = [textile.straight_fibre([s * R, 0, 0], [s * R, 0, L], R, mat,
+                                     num_elements=elements, order=order,
                                      section_vector=[1, 0, 0]) for s in (1, -1)]
-    model = textile.Model(fibres, comm=MPI.COMM_SELF)
+    model = textile.Model(fibres, element=element, comm=comm)
     for f in fibres:
         model.clamp(f, 0)
         X, G1, G2 = f.points[-1], f.g1[-1], f.g2[-1]
@@ -36,9 +45,29 @@ def test_twisted_pair_one_turn():
 
         model.fix(f, -1, ["x", "y", "g1", "g2"], top)
         model.add_force(f, -1, [0, 0, 1.0])
-    options = dict(friction=0.0)
-    contact = FibreContact(options)
+    contact = FibreContact(dict(dict(friction=0.0), **(contact or {})))
     model.add_effect(contact)
+    return model, fibres, contact
+
+
+def contact_forces(model, fibres, contact):
+    """(f0, f1): the nodal contact forces (positions) on each fibre."""
+    q = model.nodal_unknowns()
+    forces = contact.set.nodal_forces(np.ascontiguousarray(q)).reshape(-1, 9)[:, :3]
+    n = fibres[0].num_nodes
+    return forces[:n], forces[n:]
+
+
+def symmetry_error(model, fibres, contact) -> float:
+    """max |f0 - Q f1| / max |f|: the force on fibre 0 at node n against the
+    180-degree image of the force on fibre 1 at node n (zero by symmetry)."""
+    f0, f1 = contact_forces(model, fibres, contact)
+    scale = max(np.abs(f0).max(), np.abs(f1).max())
+    return float(np.abs(f0 - f1 @ rotation(np.pi).T).max() / scale)
+
+
+def test_twisted_pair_one_turn():
+    model, fibres, contact = twisted_pair()
     deepest = []
     solver = textile.Solver(model, dict(initial_step=0.02, max_step=0.05, verbose=False),
                             on_step=lambda s, rec: deepest.append(
@@ -52,13 +81,11 @@ def test_twisted_pair_one_turn():
     stats = solver.history[-1].effects
     assert stats["contact_zones"] == 1 and stats["active_contacts"] > 20  # a line contact
     # symmetry: the force on fibre 0 at node n is the 180-degree image of the
-    # force on fibre 1 at node n
-    q = model.nodal_unknowns()
-    forces = contact.set.nodal_forces(np.ascontiguousarray(q)).reshape(-1, 9)[:, :3]
-    n = fibres[0].num_nodes
-    f0, f1 = forces[:n], forces[n:]
-    scale = np.abs(forces).max()
-    assert np.allclose(f0, f1 @ rotation(np.pi).T, atol=1e-6 * scale)
+    # force on fibre 1 at node n: to round-off (measured 1.1e-14 of the
+    # largest force; 100x for another BLAS's round-off)
+    assert symmetry_error(model, fibres, contact) < 1e-12
+    f0, f1 = contact_forces(model, fibres, contact)
+    scale = max(np.abs(f0).max(), np.abs(f1).max())
     # action = reaction overall
     assert np.allclose(f0.sum(axis=0), -f1.sum(axis=0), atol=1e-9 * scale)
     # the contact pushes the fibres apart: opposite of the centroid gap

@@ -39,6 +39,16 @@ def woven(tmp_path_factory):
                                                 "positive number"),
     (dict(junction_stiffness=NAN), ValueError, "Composite: junction_stiffness"),
     (dict(junction_stiffness="stiff"), ValueError, "Composite: junction_stiffness"),
+    (dict(junction_spacing=0.0), ValueError, "Composite: junction_spacing must be a "
+                                             "positive length"),
+    (dict(junction_spacing=-R), ValueError, "Composite: junction_spacing"),
+    (dict(junction_spacing=NAN), ValueError, "Composite: junction_spacing"),
+    (dict(junction_spacing=True), ValueError, "Composite: junction_spacing"),
+    (dict(junction_spacing="1"), ValueError, "Composite: junction_spacing"),
+    # elements 3 R long: 30 stations an element, over the 20 allowed
+    (dict(junction_spacing=0.1 * R), ValueError,
+     r"Composite: junction_spacing 1e-05 asks for 30 junction stations on fibre elements "
+     r"0.0003\d* long \(at most 20\)"),
     (dict(size=0.0), ValueError, "Composite: size must be a positive length"),
     (dict(size=NAN), ValueError, "Composite: size"),
     (dict(overlap=-R), ValueError, "Composite: overlap must be a positive length"),

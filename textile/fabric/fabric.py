@@ -51,6 +51,7 @@ import numbers
 
 import numpy as np
 
+from .. import presets
 from ..beam.fibre import Fibre
 from .weave_pattern import WeavePattern
 from .yarn import ROUND_OFF, Yarn, helix_distances
@@ -101,11 +102,16 @@ class Fabric:
         enough per turn (module docstring).
     order:
         Element order of the fibres (1 or 2).
+    preset:
+        Accuracy preset (:mod:`textile.presets`; None: "standard"): sets
+        ``elements_per_crossing`` unless it is given (draft 2, standard 4,
+        fine 8).
     """
 
     def __init__(self, warp: Yarn, weft: Yarn | None = None, num_warp: int = 2,
                  num_weft: int = 2, spacing=1.0, pattern="plain", free_length=None,
-                 elements_per_crossing: int = 4, order: int = 2):
+                 elements_per_crossing: int | None = None, order: int = 2,
+                 preset: str | None = None):
         weft = warp if weft is None else weft
         for name, y in (("warp", warp), ("weft", weft)):
             if not isinstance(y, Yarn):
@@ -130,6 +136,9 @@ class Fabric:
                                  f"radius {y.radius:.4g}) but only {p:.4g} apart: neighbouring "
                                  f"{name} yarns would overlap (larger spacing, fewer or thinner "
                                  f"fibres)")
+        self.preset = presets.checked(preset, "Fabric")
+        elements_per_crossing = presets.knob(self.preset, "fabric", "elements_per_crossing",
+                                             elements_per_crossing)
         if isinstance(elements_per_crossing, bool) or not isinstance(
                 elements_per_crossing, numbers.Integral) or elements_per_crossing < 1:
             raise ValueError(f"Fabric: elements_per_crossing must be a positive integer, got "

@@ -42,6 +42,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from . import measures
+from .. import presets
 from ..effects.fibre_contact import ContactOptions, FibreContact
 from .fabric import Fabric
 from ..io import fabric_labels
@@ -88,6 +89,10 @@ class Sample:
     free_ends:
         "yarns" or "fibres": what stands for the weaving run's end bodies at
         the yarn ends no side body holds (module docstring).
+    preset:
+        Accuracy preset (:mod:`textile.presets`; None: "standard"): the
+        contact options (a dict given overrides them key by key, a
+        ContactOptions wholly) and the fibres' element are its.
     split:
         Those of ``sides`` whose yarn ends get one body per yarn instead of
         one for the side (``yarn_bodies[side][yarn]``), each driven on its
@@ -99,8 +104,10 @@ class Sample:
     """
 
     def __init__(self, fabric: Fabric, woven: str | None, sides=("xmin", "xmax"), pins=(),
-                 contact=None, free_ends: str = "yarns", split=(), comm=MPI.COMM_WORLD):
+                 contact=None, free_ends: str = "yarns", split=(), preset: str | None = None,
+                 comm=MPI.COMM_WORLD):
         name = type(self).__name__
+        self.preset = presets.checked(preset, name)
         if not isinstance(fabric, Fabric):
             raise TypeError(f"{name}: fabric must be a textile.fabric.Fabric, got "
                             f"{type(fabric).__name__}")
@@ -133,7 +140,7 @@ class Sample:
                 raise FileNotFoundError(f"{name}: no woven state file {str(woven)!r} (write one "
                                         f"with textile.save_state after a weaving run)")
             configuration = saved_configuration(woven, comm)
-        self.model = Model(fibres, comm=comm)
+        self.model = Model(fibres, element=presets.element(self.preset), comm=comm)
         mesh = self.model.mesh
         if configuration is None:
             configuration = mesh.X_global
@@ -144,7 +151,8 @@ class Sample:
         self.configuration = configuration
         self.contact = None
         if contact is not False:
-            self.contact = FibreContact(contact, fibre_yarn=fabric.fibre_yarn,
+            self.contact = FibreContact(presets.contact(self.preset, contact),
+                                        fibre_yarn=fabric.fibre_yarn,
                                         yarn_friction=fabric.yarn_friction())
             self.model.add_effect(self.contact)
         self._add_matrix(configuration)

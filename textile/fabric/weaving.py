@@ -35,6 +35,7 @@ import numpy as np
 from mpi4py import MPI
 
 from . import measures
+from .. import presets
 from ..effects.fibre_contact import FibreContact
 from ..effects.heddles import Heddles
 from ..effects.weaving_contact import weaving_mode
@@ -89,6 +90,11 @@ class Weaving:
         other at the crossing's middle by 0.1 of that height; fibres off
         the middle, where the yarns slope, may still overlap a little, and
         the settling stage makes that up progressively).
+    preset:
+        Accuracy preset (:mod:`textile.presets`: "draft", "standard" (None),
+        "fine"): ``steps``, ``contact``, ``element`` and :meth:`run`'s solver
+        options are its, except those given (a contact or solver dict
+        overrides it key by key).
     comm:
         MPI communicator.
 
@@ -127,13 +133,17 @@ class Weaving:
     #: state (measured: benchmarks/README.md, "Bundles")
     SETTLING_UPDATE_TOLERANCE = 1e-2
 
-    def __init__(self, fabric: Fabric, steps: int = 5,
+    def __init__(self, fabric: Fabric, steps: int | None = None,
                  relaxation_steps: int = 1, tension: float = 1e-4, contact=None, element=None,
                  method: str | None = None, settling_steps: int = 16, amplitude: float = 0.55,
-                 comm=MPI.COMM_WORLD):
+                 preset: str | None = None, comm=MPI.COMM_WORLD):
         if not isinstance(fabric, Fabric):
             raise TypeError(f"Weaving: fabric must be a textile.fabric.Fabric, got "
                             f"{type(fabric).__name__}")
+        self.preset = presets.checked(preset, "Weaving")
+        steps = presets.knob(self.preset, "weaving", "steps", steps)
+        contact = presets.contact(self.preset, contact)
+        element = presets.element(self.preset) if element is None else element
         if method is None:
             bundles = any(fabric.yarn(k).height > 2 * fabric.yarn(k).radius * (1 + 1e-9)
                           for k in (0, fabric.num_yarns - 1))
@@ -231,7 +241,7 @@ class Weaving:
         """Weave: run both stages; returns the solver (its ``history`` holds
         every step). Raises :class:`~textile.solver.ConvergenceError` with
         the last converged state kept (and written by ``output``)."""
-        solver = Solver(self.model, dict(solver_options or {}), output=output)
+        solver = Solver(self.model, presets.solver(self.preset, solver_options), output=output)
         solver.run(self.stages())
         return solver
 

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from mpi4py import MPI
 
+from .. import presets
 from ..composite.composite import Composite
 from ..beam.fibre_loads import FIGURES, fibre_loads, ranked_table
 from ..fabric.fabric import Fabric
@@ -153,6 +154,11 @@ class VirtualTest:
     output:
         Directory for the ParaView series, results.json and pictures of
         every step (None: nothing written during the run).
+    preset:
+        Accuracy preset (:mod:`textile.presets`; None: "standard"): the
+        contact options (under the friction default above), the matrix's
+        ``size`` and ``degree`` and the solver options are its, except those
+        given (``contact``, ``composite`` and ``solver_options`` entries).
     comm:
         MPI communicator.
     """
@@ -171,7 +177,7 @@ class VirtualTest:
     def __init__(self, fabric: Fabric, woven: str, steps: int = 10, matrix: Material | None = None,
                  composite: dict | None = None, contact=None, release_steps: int | None = None,
                  solver_options: dict | None = None, output: str | None = None,
-                 comm=MPI.COMM_WORLD):
+                 preset: str | None = None, comm=MPI.COMM_WORLD):
         if woven is None or not isinstance(woven, (str, os.PathLike)):
             raise TypeError(f"{type(self).__name__}: woven must be the path of a saved woven "
                             f"state (textile.save_state after a Weaving run), got {woven!r}")
@@ -181,6 +187,7 @@ class VirtualTest:
         if not (output is None or isinstance(output, (str, os.PathLike))):
             raise TypeError(f"{type(self).__name__}: output must be the path of a directory "
                             f"or None (nothing written), got {output!r}")
+        preset = presets.checked(preset, type(self).__name__)
         if release_steps is None:
             release_steps = 2 if matrix is not None else 0
         for label, v, low in (("steps", steps, 1), ("release_steps", release_steps, 0)):
@@ -194,16 +201,18 @@ class VirtualTest:
                 raise ValueError(f"{type(self).__name__}: composite options {composite!r} "
                                  f"without a matrix")
             self.sample = Sample(fabric, str(woven), sides=self.sides, pins=self.pins,
-                                 split=self.split,
-                                 contact=contact, comm=comm)
+                                 split=self.split, contact=contact, preset=preset, comm=comm)
         else:
             if self.pins:
                 raise ValueError(f"{type(self).__name__}: pinned sides are not available with "
                                  f"a matrix (a matrix face follows its body fully)")
             self.sample = Composite(fabric, str(woven), matrix, sides=self.sides,
-                                    contact=contact, comm=comm, **(composite or {}))
+                                    contact=contact, preset=preset, comm=comm,
+                                    **(composite or {}))
         self.steps, self.release_steps = steps, release_steps
-        self.solver_options = dict(verbose=False) | dict(solver_options or {})
+        self.preset = preset
+        self.solver_options = presets.solver(preset, dict(verbose=False)
+                                             | dict(solver_options or {}))
         self.output_dir = output
         self.comm = comm
         self.gauge = self.sample.side_distance("x")
