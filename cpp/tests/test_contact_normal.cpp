@@ -78,6 +78,21 @@ TEST(ContactNormal, PreviousOrthogonalNormalDoesNotOrient)
   EXPECT_NEAR(N.dot(d.normalized()), 1.0, 1e-12);
 }
 
+TEST(ContactNormal, PreviousNormalOrientsOnlyWhenItTellsTheSide)
+{
+  // fibres side by side along x, the centroid gap along -y: the normal is
+  // +-y. A previous normal nearly orthogonal to it (|cos| 0.05, half
+  // orientation_cosine: a normal that changed kind, with some tilt) says
+  // nothing about the side: the centroid gap orients it. One at |cos| 0.3
+  // (three times orientation_cosine) keeps the side it had, against the
+  // centroid gap (fibres pressed past each other's centre lines).
+  const Vec3 t(1, 0, 0), d(0, -1.5 * radius, 0);
+  const Vec3 tilted(0, 0.05, std::sqrt(1 - 0.05 * 0.05));
+  EXPECT_NEAR(centroid_normal(t, d, tilted).y(), -1.0, 1e-15);
+  const Vec3 telling(0, 0.3, std::sqrt(1 - 0.3 * 0.3));
+  EXPECT_NEAR(centroid_normal(t, d, telling).y(), 1.0, 1e-15);
+}
+
 TEST(WeavingOrder, VerticalNormalFromTheOrder)
 {
   // fibres 0, 1 in yarn 0 (warp), fibre 2 in yarn 1 (weft), weft on top

@@ -49,8 +49,9 @@ inline constexpr double node_snap = 1e-2;
 
 /// ... and closer than kink_snap to a node where the centre line kinks by
 /// more than kink_angle (radians). kink_snap is pinned by
-/// tests/virtual/test_picture_frame.py (fails at 0); no test pins
-/// kink_angle.
+/// tests/virtual/test_picture_frame.py (fails at 0); kink_angle by
+/// cpp/tests/test_intermediate_geometry.cpp (fails at 4e-4 and 2.5e-3: a
+/// kink of 2e-3 rad snaps, one of 5e-4 does not).
 inline constexpr double kink_snap = 0.1;
 inline constexpr double kink_angle = 1e-3;
 
@@ -78,15 +79,19 @@ inline constexpr double facing_min_sine = 0.1;
 /// |cos| between a new normal and the previous one below which the
 /// previous one says nothing about the side (the normal changed kind, e.g.
 /// from the crossing normal to an in-plane one): the centroid gap orients
-/// it then (contact_normal.cpp). No test pins it (at 0.6 the contact,
-/// weaving, stability and virtual-test suites pass).
+/// it then (contact_normal.cpp). Pinned by cpp/tests/test_contact_normal.cpp
+/// (fails at 0.04 and 0.35: a previous normal at |cos| 0.05 does not
+/// orient, one at 0.3 does); the contact, weaving, stability and
+/// virtual-test suites also pass at 0.6.
 inline constexpr double orientation_cosine = 0.1;
 
 // -- line contacts ---------------------------------------------------------------
 
 /// Pieces of a line contact shorter than this fraction of the spacing are
-/// merged into a neighbour (contact_points). No test pins it (at 0.2 the
-/// contact, weaving, stability and virtual-test suites pass).
+/// merged into a neighbour (contact_points). Pinned by
+/// cpp/tests/test_intermediate_geometry.cpp (fails at 4e-4 and 2.5e-3: a
+/// piece of 5e-4 spacing is merged, one of 2e-3 is not); the contact,
+/// weaving, stability and virtual-test suites also pass at 0.2.
 inline constexpr double merge_fraction = 1e-3;
 
 /// A line contact's pieces may exceed 2 x spacing by this fraction before
