@@ -552,6 +552,21 @@ class Model:
         self.force_reference = np.hypot(applied, self.residual_groups.reaction_norms(
             self._reaction_values))
 
+    def residual_record(self) -> tuple:
+        """What the last residual evaluation recorded (group norms, force
+        scale, support reactions) with the load factor and constraints it
+        was made at: restore_residual_record sets it back (the solver's
+        predictor keeps its last evaluation for Newton's first)."""
+        return (self.load_factor, self._constraint_cache, self.residual_norms,
+                self.force_reference, self._reaction_values)
+
+    def residual_record_current(self, record: tuple) -> bool:
+        """Was record made at the current load factor and constraints?"""
+        return record[0] == self.load_factor and record[1] is self._constraint_cache
+
+    def restore_residual_record(self, record: tuple) -> None:
+        self.residual_norms, self.force_reference, self._reaction_values = record[2:]
+
     def _time(self, effect: Effect, kind: str, t0: float) -> None:
         """Add the seconds since t0 to the effect's assembly time."""
         key = (type(effect).__name__, kind)
