@@ -67,6 +67,10 @@ class Model:
         self._constraint_cache: tuple | None = None
         self._beam_global_dofs = None
         self._floor_tangent = None
+        self._external_work: PETSc.Vec | None = None   # _applied_forces
+        self._owned_constrained_cache = None             # _owned_constrained
+        self._applied_kept = None                        # _applied_forces
+        self._constrained_positions_cache = None
         #: counts the changes of the constrained set (_setup_constraints)
         self.constraint_version = 0
 
@@ -431,7 +435,32 @@ class Model:
         x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
 
     def _owned_constrained(self, t: float):
-        """Stacked local indices (owned only) and values of constrained dofs."""
+        """Stacked local indices (owned only) and values of constrained dofs
+        (read-only arrays, kept while the constraints at t are)."""
+        cons = self._constraints(t)
+        cached = self._owned_constrained_cache
+        if cached is not None and cached[0] is cons:
+            return cached[1]
+        out = self._compute_owned_constrained(t)
+        for a in out:
+            a.setflags(write=False)
+        self._owned_constrained_cache = (cons, out)
+        return out
+
+    def _owned_positions_constrained(self):
+        """(positions in the owned array, int32 stacked local indices,
+        values) of the constrained dofs at the current load factor."""
+        idx, vals = self._owned_constrained(self.load_factor)
+        cached = self._constrained_positions_cache
+        if cached is None or cached[0] is not idx:
+            pos = self.owned_positions(idx)
+            pos.setflags(write=False)
+            idx32 = idx.astype(np.int32)
+            idx32.setflags(write=False)
+            cached = self._constrained_positions_cache = (idx, pos, idx32)
+        return cached[1], cached[2], vals
+
+    def _compute_owned_constrained(self, t: float):
         idx, vals = [], []
         for name, (dofs, v) in self._constraints(t).items():
             f = self.layout.field(name)
@@ -509,11 +538,10 @@ class Model:
             return
         if self.comm.allreduce(any(added), op=MPI.LOR):
             b.assemble()
-        idx, vals = self._owned_constrained(self.load_factor)
+        # owned part of the stacked local numbering -> position in the owned array
+        pos, _, vals = self._owned_positions_constrained()
         barr = b.getArray()
         xarr = x.getArray(readonly=True)
-        # owned part of the stacked local numbering -> position in the owned array
-        pos = self.owned_positions(idx)
         self._reaction_values = barr[pos].copy()   # internal - external force at supports
         barr[pos] = xarr[pos] - vals
         if not np.all(np.isfinite(barr)):
@@ -524,6 +552,21 @@ class Model:
         # the force scale of each group: applied loads and support reactions
         self.force_reference = np.hypot(applied, self.residual_groups.reaction_norms(
             self._reaction_values))
+
+    def residual_record(self) -> tuple:
+        """What the last residual evaluation recorded (group norms, force
+        scale, support reactions) with the load factor and constraints it
+        was made at: restore_residual_record sets it back (the solver's
+        predictor keeps its last evaluation for Newton's first)."""
+        return (self.load_factor, self._constraint_cache, self.residual_norms,
+                self.force_reference, self._reaction_values)
+
+    def residual_record_current(self, record: tuple) -> bool:
+        """Was record made at the current load factor and constraints?"""
+        return record[0] == self.load_factor and record[1] is self._constraint_cache
+
+    def restore_residual_record(self, record: tuple) -> None:
+        self.residual_norms, self.force_reference, self._reaction_values = record[2:]
 
     def _time(self, effect: Effect, kind: str, t0: float) -> None:
         """Add the seconds since t0 to the effect's assembly time."""
@@ -547,14 +590,27 @@ class Model:
         loads = [e for e in self.effects if type(e).external is not Effect.external]
         if not loads:
             return np.zeros(len(self.residual_groups.names))
+        key = None
+        if all(type(e).external_from_schedules for e in loads):
+            # dead loads: the same norms while their schedules' values are
+            key = [s.values(st.load_factor) for e in loads for s in e.schedules()]
+            kept = self._applied_kept
+            if (kept is not None and kept[0] is self.residual_groups and len(kept[1]) == len(key)
+                    and all(np.array_equal(a, b) for a, b in zip(kept[1], key))):
+                return kept[2]
         ext = {f.name: np.zeros(f.size_ghosted) for f in self.layout.fields}
         for e in loads:
             e.external(st, ext)
-        v = self.layout.create_vector()
+        # one work vector for the run (the layout is fixed once set up):
+        # the scatter overwrites its owned and ghost entries
+        v = self._external_work
+        if v is None:
+            v = self._external_work = self.layout.create_vector()
         self.layout.scatter(v, [ext[f.name] for f in self.layout.fields])
         v.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
         out = self.residual_groups.norms(v.getArray(readonly=True))
-        v.destroy()
+        out.setflags(write=False)
+        self._applied_kept = None if key is None else (self.residual_groups, key, out)
         return out
 
     def owned_positions(self, stacked_local: np.ndarray) -> np.ndarray:
@@ -616,8 +672,8 @@ class Model:
             # the residual at this state passed: keep SNES going on an
             # identity, the convergence test stops it (domain_error is set)
             self.domain_error = error or _cpp.GeometryError("domain error on another rank")
-        idx, _ = self._owned_constrained(self.load_factor)
-        _cpp.add_diagonal(P, idx.astype(np.int32), 1.0)
+        _, idx32, _ = self._owned_positions_constrained()
+        _cpp.add_diagonal(P, idx32, 1.0)
         P.assemble()
         if J != P:
             J.assemble()

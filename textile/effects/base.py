@@ -85,6 +85,10 @@ class Effect:
     #: matrix still has its final pattern and is assembled, so the effect
     #: can add a cached copy in one pass instead of inserting it again.
     constant_tangent: bool = False
+    #: True if ``external`` depends on nothing but the values of the
+    #: effect's schedules (dead loads): the model then computes the force
+    #: scale of the convergence test again only when those values change.
+    external_from_schedules: bool = False
 
     def add_fields(self, model) -> list:
         """New fields this effect brings (e.g. the matrix's function space)."""

@@ -19,6 +19,7 @@ class NodalForces(Effect):
 
     fields = ("beam",)
     symmetric_tangent = True  # dead loads: no tangent at all
+    external_from_schedules = True
 
     def __init__(self):
         self.schedule = Schedule("nodal forces")

@@ -26,6 +26,8 @@ class ContactLoop:
         self.model = newton.model
         self.comm = newton.comm
         self.options = newton.options
+        #: did the predictor keep the extrapolated state at the last step?
+        self.extrapolation_won = False
 
     def effects_step(self, method: str) -> tuple[bool, str]:
         """Call ``method`` of every effect (prepare, update); GeometryError
@@ -67,8 +69,19 @@ class ContactLoop:
             # x += (t - t_n) / (t_n - t_prev) * (x_n - x_prev)
             m.x.axpy((t - t_n) / (t_n - t_prev), m.x - x_prev)
             norm = self.newton.residual_norm
-            if o.predictor == "auto" and norm(m.x) > norm(plain):
-                plain.copy(m.x)  # the extrapolation is worse than none
+            if o.predictor == "auto":
+                # the state the last step chose is evaluated last: when it
+                # wins again, its residual is Newton's first (kept by
+                # Newton.residual_norm, not evaluated again)
+                if self.extrapolation_won:
+                    plain_norm = norm(plain)
+                    extrapolated_norm = norm(m.x)
+                else:
+                    extrapolated_norm = norm(m.x)
+                    plain_norm = norm(plain)
+                self.extrapolation_won = not extrapolated_norm > plain_norm
+                if not self.extrapolation_won:
+                    plain.copy(m.x)  # the extrapolation is worse than none
             plain.destroy()
         m.apply_constraints(m.x)
         attempt = Attempt(False)

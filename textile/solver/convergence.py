@@ -60,16 +60,32 @@ class ResidualGroups:
     #: reactions
     reactions: dict[str, np.ndarray]
 
+    def __post_init__(self):
+        # every group's rows one after another: one gather per norms() into
+        # a kept buffer, then a dot product of each group's contiguous slice
+        # (the same values in the same order as dot(owned[rows], owned[rows]))
+        self._order = np.concatenate([np.asarray(self.rows[n], dtype=np.int64)
+                                      for n in self.names]) if self.names \
+            else np.zeros(0, np.int64)
+        self._bounds = np.cumsum([0] + [len(self.rows[n]) for n in self.names]).tolist()
+        self._gathered = np.empty(len(self._order))
+
+    def _sum(self, local: np.ndarray) -> np.ndarray:
+        """Sum over the ranks (none to add on one rank)."""
+        return local if self.comm.size == 1 else self.comm.allreduce(local, op=MPI.SUM)
+
     def norms(self, owned: np.ndarray) -> np.ndarray:
         """2-norm of each group of the owned array (collective)."""
-        local = np.array([float(np.dot(owned[self.rows[n]], owned[self.rows[n]]))
-                          for n in self.names])
-        return np.sqrt(self.comm.allreduce(local, op=MPI.SUM))
+        g = np.take(owned, self._order, out=self._gathered, mode="clip")  # valid rows: unbuffered
+        b = self._bounds
+        local = np.array([float(np.dot(g[b[i]:b[i + 1]], g[b[i]:b[i + 1]]))
+                          for i in range(len(self.names))])
+        return np.sqrt(self._sum(local))
 
     def reaction_norms(self, reactions: np.ndarray) -> np.ndarray:
         """2-norm of each group's support reactions (collective)."""
         local = np.array([float(np.sum(reactions[self.reactions[n]] ** 2)) for n in self.names])
-        return np.sqrt(self.comm.allreduce(local, op=MPI.SUM))
+        return np.sqrt(self._sum(local))
 
     def as_dict(self, values: np.ndarray) -> dict[str, float]:
         return {n: float(v) for n, v in zip(self.names, values)}

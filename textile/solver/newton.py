@@ -99,6 +99,9 @@ class Newton:
         #: the last iterate? (see converged; textile.solver.stability_check)
         self.factor_near = False
         self.cycled = False
+        #: the last residual evaluation, when residual_norm made it (see
+        #: _KeptResidual); any other evaluation forgets it
+        self._kept_residual = None
         self.snes = self._create_snes()  # starts PETSc's event log
 
     def _create_snes(self) -> PETSc.SNES:
@@ -130,6 +133,12 @@ class Newton:
         return snes
 
     def _residual(self, snes, x, b) -> None:
+        kept, self._kept_residual = self._kept_residual, None
+        if kept is not None and kept.matches(self.model, x):
+            # the predictor's last residual_norm was at this very iterate:
+            # the same residual, not evaluated again
+            kept.restore(self.model, b)
+            return
         self.counts["residual_evaluations"] += 1
         self.model.residual(snes, x, b)
 
@@ -183,6 +192,7 @@ class Newton:
     def set_operators(self, A: PETSc.Mat) -> None:
         """Solve with the model's new system matrix A (new couplings, a new
         constrained set)."""
+        self._kept_residual = None
         self.snes.setJacobian(self._jacobian, *self.linear.operators(A))
 
     def solve(self, x: PETSc.Vec) -> NewtonResult:
@@ -230,8 +240,35 @@ class Newton:
         m.apply_constraints(y)
         r = m.b.duplicate()
         self._residual(None, y, r)
+        clean = m.domain_error is None
         m.domain_error = None
         norm = r.norm()
+        if clean and np.isfinite(norm):
+            # SNES's first residual is this one when the step starts here
+            self._kept_residual = _KeptResidual(m, y, r)
         y.destroy()
         r.destroy()
         return norm if np.isfinite(norm) else np.inf
+
+
+class _KeptResidual:
+    """A residual evaluation made by :meth:`Newton.residual_norm` (the
+    predictor's choice): the iterate, the residual and what the model
+    recorded with it (group norms, force scale, support reactions), for
+    SNES's first evaluation of the step when it is at the same iterate,
+    load factor and constraints. Only the last evaluation is kept: the
+    effects' state is then that of this iterate, as after a new
+    evaluation."""
+
+    def __init__(self, m, y: PETSc.Vec, r: PETSc.Vec):
+        self.x = y.getArray(readonly=True).copy()
+        self.r = r.getArray(readonly=True).copy()
+        self.recorded = m.residual_record()
+
+    def matches(self, m, x: PETSc.Vec) -> bool:
+        return (m.domain_error is None and m.residual_record_current(self.recorded)
+                and np.array_equal(x.getArray(readonly=True), self.x))
+
+    def restore(self, m, b: PETSc.Vec) -> None:
+        b.getArray()[:] = self.r
+        m.restore_residual_record(self.recorded)

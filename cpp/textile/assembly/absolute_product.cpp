@@ -31,11 +31,33 @@ void absolute_product(Mat A, Vec x, Vec y)
         "PetscObjectTypeCompare");
   if (!seq and !mpi)
     throw std::invalid_argument("absolute_product: A must be a SEQAIJ or MPIAIJ matrix");
+  if (seq)
+  {
+    // one pass over A's CSR arrays: no copy of the matrix (the copy and its
+    // absolute values cost ~5x the product on a fibre scene of 35k rows)
+    const PetscInt *ia = nullptr, *ja = nullptr;
+    PetscScalar* v = nullptr;
+    PetscMemType mtype;
+    check(MatSeqAIJGetCSRAndMemType(A, &ia, &ja, &v, &mtype), "MatSeqAIJGetCSRAndMemType");
+    PetscInt m = 0;
+    check(MatGetLocalSize(A, &m, nullptr), "MatGetLocalSize");
+    const PetscScalar* xa = nullptr;
+    PetscScalar* ya = nullptr;
+    check(VecGetArrayRead(x, &xa), "VecGetArrayRead");
+    check(VecGetArray(y, &ya), "VecGetArray");
+    for (PetscInt i = 0; i < m; ++i)
+    {
+      PetscScalar s = 0.0;
+      for (PetscInt k = ia[i]; k < ia[i + 1]; ++k)
+        s += std::abs(v[k]) * std::abs(xa[ja[k]]);
+      ya[i] = s;
+    }
+    check(VecRestoreArray(y, &ya), "VecRestoreArray");
+    check(VecRestoreArrayRead(x, &xa), "VecRestoreArrayRead");
+    return;
+  }
   Mat B;
   check(MatDuplicate(A, MAT_COPY_VALUES, &B), "MatDuplicate");
-  if (seq)
-    absolute_values(B);
-  else
   {
     Mat diag, offdiag;
     const PetscInt* colmap;
