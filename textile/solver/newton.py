@@ -14,6 +14,7 @@ import weakref
 from dataclasses import dataclass, field
 
 import numpy as np
+from mpi4py import MPI
 from petsc4py import PETSc
 
 from .convergence import GroupTolerances
@@ -134,7 +135,11 @@ class Newton:
 
     def _residual(self, snes, x, b) -> None:
         kept, self._kept_residual = self._kept_residual, None
-        if kept is not None and kept.matches(self.model, x):
+        reuse = kept is not None and kept.matches(self.model, x)
+        if self.comm.size > 1:
+            # every rank or none: the evaluation is collective
+            reuse = self.comm.allreduce(reuse, op=MPI.LAND)
+        if reuse:
             # the predictor's last residual_norm was at this very iterate:
             # the same residual, not evaluated again
             kept.restore(self.model, b)
