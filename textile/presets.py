@@ -172,30 +172,31 @@ def knob(name: str | None, block: str, key: str, given=None):
     return given if given is not None else PRESETS[DEFAULT if name is None else name][block][key]
 
 
+def _options(name: str | None, given, block: str, options_class):
+    """``given`` over preset ``name``'s ``block``: an ``options_class``
+    instance as given (every field of it is the user's), a dict over the
+    block key by key, None the block itself; anything else is returned as
+    is, to be refused by name where the options are built."""
+    if isinstance(given, options_class) or not (given is None or isinstance(given, dict)):
+        return given
+    defaults = preset(DEFAULT if name is None else name)[block]
+    return defaults if given is None else dict(defaults, **given)
+
+
 def contact(name: str | None, given=None):
     """A scene's contact options under preset ``name``: a ``ContactOptions``
     as given (every field of it is the user's), a dict over the preset's
     contact block key by key, None the preset's block (checked where the
     contact is built: :class:`~textile.effects.fibre_contact.FibreContact`)."""
     from .effects.fibre_contact import ContactOptions
-    if isinstance(given, ContactOptions):
-        return given
-    if not (given is None or isinstance(given, dict)):
-        return given        # refused, by name, where the contact is built
-    block = preset(DEFAULT if name is None else name)["contact"]
-    return block if given is None else dict(block, **given)
+    return _options(name, given, "contact", ContactOptions)
 
 
 def solver(name: str | None, given=None):
     """A scene's solver options under preset ``name``: as :func:`contact`,
     for :class:`~textile.solver.SolverOptions`."""
     from .solver.options import SolverOptions
-    if isinstance(given, SolverOptions):
-        return given
-    if not (given is None or isinstance(given, dict)):
-        return given        # refused, by name, where the solver is built
-    block = preset(DEFAULT if name is None else name)["solver"]
-    return block if given is None else dict(block, **given)
+    return _options(name, given, "solver", SolverOptions)
 
 
 def element(name: str | None = None, **overrides):

@@ -149,18 +149,14 @@ class Composite(Sample):
             raise ValueError(f"Composite: degree must be one of {DEGREES}, got {degree!r}")
         if law not in LAWS:
             raise ValueError(f"Composite: law must be one of {LAWS}, got {law!r}")
-        if junction_stiffness is not None and (
-                isinstance(junction_stiffness, bool)
-                or not isinstance(junction_stiffness, numbers.Real)
-                or not np.isfinite(junction_stiffness) or junction_stiffness <= 0):
-            raise ValueError(f"Composite: junction_stiffness must be a positive number (force "
-                             f"per length squared) or None, got {junction_stiffness!r}")
-        if junction_spacing is not None and (
-                isinstance(junction_spacing, bool)
-                or not isinstance(junction_spacing, numbers.Real)
-                or not np.isfinite(junction_spacing) or junction_spacing <= 0):
-            raise ValueError(f"Composite: junction_spacing must be a positive length (the "
-                             f"fabric's unit) or None, got {junction_spacing!r}")
+        for value, name, what in ((junction_stiffness, "junction_stiffness",
+                                   "a positive number (force per length squared)"),
+                                  (junction_spacing, "junction_spacing",
+                                   "a positive length (the fabric's unit)")):
+            if value is not None and (isinstance(value, bool)
+                                      or not isinstance(value, numbers.Real)
+                                      or not np.isfinite(value) or value <= 0):
+                raise ValueError(f"Composite: {name} must be {what} or None, got {value!r}")
         self._matrix = dict(material=matrix, size=size, overlap=overlap, degree=degree, law=law,
                             junction_stiffness=junction_stiffness,
                             junction_spacing=junction_spacing)
