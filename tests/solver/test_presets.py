@@ -231,7 +231,8 @@ def test_standard_composite_matrix_is_the_default(bench):
     default (size None -> 8 radii)."""
     from textile.composite import Composite
     k = dict(bench.DEFAULTS["composite"])
-    c = Composite(bench._fabric(k), bench._woven_path(k), bench.MATRIX, comm=MPI.COMM_SELF)
+    c = Composite(bench._fabric(k), bench._woven_path(k, "composite"), bench.MATRIX,
+                  comm=MPI.COMM_SELF)
     p = presets.preset("standard")["matrix"]
     assert c._matrix["size"] == pytest.approx(p["size_radii"] * bench.R_WEAVE, rel=1e-15)
     assert c._matrix["degree"] == p["degree"]
