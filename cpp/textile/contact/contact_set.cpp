@@ -297,9 +297,13 @@ void ContactSet::commit()
 {
   for (auto& e : _elements)
   {
+    // a frictionless contact has no stick memory: its stick point follows
+    // it, so friction switched on later (another stage's coefficients, a
+    // saved state read by a scene with friction) starts from zero elastic
+    // slip instead of the whole sliding since the element was created
     if (e.friction.mu <= 0)
-      continue;
-    if (e.result.normal_force > 0)
+      e.stick = e.result.delta;
+    else if (e.result.normal_force > 0)
       e.stick = updated_stick(e.normal, e.friction, e.result.delta, e.stick);
     else
       e.stick = e.result.delta; // open: sliding starts from where contact begins
