@@ -7,11 +7,11 @@ term is a new file here implementing :class:`~textile.effects.base.Effect`.
 from .base import Effect, State
 from .beam_elasticity import BeamElasticity
 from .heddles import Heddles
-from .nodal_loads import EndMoments, NodalForces
+from .nodal_loads import EndMoments, NodalForces, ReleasedForces
 from .viscous_drag import ViscousDrag
 
-__all__ = ["Effect", "State", "BeamElasticity", "NodalForces", "EndMoments", "ViscousDrag",
-           "Heddles",
+__all__ = ["Effect", "State", "BeamElasticity", "NodalForces", "EndMoments", "ReleasedForces",
+           "ViscousDrag", "Heddles",
            "ElasticBlock",
            "FibreMatrixTie", "FibreMatrixJunctions"]
 

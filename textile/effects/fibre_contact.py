@@ -800,20 +800,26 @@ class FibreContact(Effect):
         self.coverage = _cpp.CouplingPattern()
         self._matrix_has_contact = False
 
-    def reset_friction(self, model) -> None:
+    def reset_friction(self, model) -> np.ndarray | None:
         """Start friction afresh at the current state: every contact sticks
         where it is, with no tangential force (its stick point moved by its
         elastic slip). A test starting from a woven state: the yarns reached
         their places slipping, at the friction limit, where a free yarn has
-        no tangential stiffness. No-op without friction (or with the
-        stage's friction off)."""
+        no tangential stiffness. Returns the friction forces removed (this
+        rank's share, 9 per global node, in the residual's sign: what
+        :class:`~textile.effects.nodal_loads.ReleasedForces` hands back over
+        a stage), or None without friction (or with the stage's friction
+        off): then nothing changes."""
         if not (self.has_friction and self._friction_on):
-            return
+            return None
+        q = model.beam_positions(model.state())
+        before = self._committed.nodal_forces(q)
         d = self._committed.data()
         columns = {k: np.asarray(d[k]) for k in self.SAVED}
         columns["stick"] = columns["stick"] + np.asarray(d["elastic_slip"]).reshape(
             columns["stick"].shape)
         self._restore(model, columns, self._committed.num_zones)
+        return before - self._committed.nodal_forces(q)
 
     def load_fibres(self, model, data: dict) -> None:
         """A new scene starts from saved fibres (textile.load_fibres): take

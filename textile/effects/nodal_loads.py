@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import numpy as np
+from mpi4py import MPI
 
 from .. import _cpp
 from ..loading import Handle, Schedule
@@ -99,3 +100,108 @@ class EndMoments(Effect):
             _, J = _cpp.end_moment(M, self._g(state, l))
             idx = state.dofs["beam"][9 * l + 3:9 * l + 9]
             _cpp.add_block(A, idx, idx, np.ascontiguousarray(-J))
+
+
+class ReleasedForces(Effect):
+    """A dead generalized-force vector on the fibres' unknowns that starts
+    at full value and goes to zero over the first stage (unless a stage
+    ramps its ``handle`` otherwise): forces that held a loaded state,
+    exerted by something the scene no longer has, handed over to the
+    scene's own effects step by step instead of all at once.
+
+    What it is for: a sample starts from a woven state with friction
+    afresh (every contact sticking, no tangential force:
+    ``FibreContact.reset_friction``). The friction forces the reset removes
+    held the fibres of a bundle together where the yarns cross; removed at
+    once, the bundle rearranges in one Newton solve and an element folds.
+    Released over the first stage, they pass to the sticking contacts
+    gradually (:class:`~textile.fabric.sample.Sample`).
+
+    Sign: ``forces`` as a residual contribution (internal minus external,
+    9 per node in the fibre mesh's global node order, as
+    ``ContactSet.nodal_forces`` gives a contact's): the residual with them
+    at full value is the residual the removed forces gave.
+    """
+
+    fields = ("beam",)
+    symmetric_tangent = True  # dead loads: no tangent at all
+    external_from_schedules = True
+    state_name = "released forces"
+
+    def __init__(self, label: str):
+        self.schedule = Schedule(label)
+        #: the scale of the forces (1: full value); the first stage ramps it to 0
+        self.handle = self.schedule.add([0.0], label)
+        self._local = None     # owned rows, ghost rows zero; None: no forces
+
+    def schedules(self) -> list:
+        return [self.schedule]
+
+    def setup(self, model) -> None:
+        self._model, self._mesh, self._comm = model, model.mesh, model.comm
+
+    def scale(self) -> float:
+        """The forces' current scale: 1 at full value, 0 released."""
+        return float(self.schedule.values(self._model.load_factor)[self.handle.index[0]])
+
+    def set(self, forces: np.ndarray) -> None:
+        """Hold ``forces`` (this rank's share, 9 per global node: the ranks'
+        shares add up) at full value from the current stage's start, to be
+        released over that stage (collective). All zero: nothing is held."""
+        mesh = self._mesh
+        f = np.asarray(forces, dtype=float)
+        if f.shape != (9 * mesh.num_nodes_global,) or not np.all(np.isfinite(f)):
+            raise ValueError(f"ReleasedForces: forces must be {9 * mesh.num_nodes_global} "
+                             f"finite values, got shape {f.shape}")
+        self._take(self._comm.allreduce(f, op=MPI.SUM))
+        full = self._local is not None
+        self.schedule.start[self.handle.index] = 1.0 if full else 0.0
+        self.schedule.target[self.handle.index] = 0.0
+
+    def _take(self, total: np.ndarray) -> None:
+        """Keep the owned rows of the summed forces (each row once over the
+        ranks), or nothing if they are all zero."""
+        mesh = self._mesh
+        if not np.any(total):
+            self._local = None
+            return
+        rows = total.reshape(-1, 9)[mesh.local_to_global[:mesh.num_owned]]
+        self._local = np.concatenate([rows.ravel(),
+                                      np.zeros(9 * (len(mesh.local_to_global) - mesh.num_owned))])
+
+    def _scale(self, state: State) -> float:
+        return float(self.schedule.values(state.load_factor)[self.handle.index[0]])
+
+    def residual(self, state: State, b) -> None:
+        if self._local is not None:
+            s = self._scale(state)
+            if s != 0.0:
+                b["beam"] += s * self._local
+
+    def external(self, state: State, b) -> None:
+        # the held forces count as applied loads (the convergence test's scale)
+        if self._local is not None:
+            s = self._scale(state)
+            if s != 0.0:
+                b["beam"] -= s * self._local
+
+    # -- saved states: the forces (the scale is the schedule's) ---------------------
+    def save_state(self, model) -> dict:
+        if self._local is None:
+            return {}
+        mesh = self._mesh
+        total = np.zeros((mesh.num_nodes_global, 9))
+        total[mesh.local_to_global[:mesh.num_owned]] = self._local[:9 * mesh.num_owned].reshape(
+            -1, 9)
+        total = self._comm.reduce(total, op=MPI.SUM, root=0)
+        return {"forces": total.ravel()} if self._comm.rank == 0 else {}
+
+    def check_state(self, model, data: dict) -> None:
+        n = 9 * model.mesh.num_nodes_global
+        if data and np.shape(data["forces"]) != (n,):
+            raise ValueError(f"the state file's released forces have {np.size(data['forces'])} "
+                             f"values, this model's fibres {n} unknowns")
+
+    def load_state(self, model, data: dict) -> None:
+        self._take(np.asarray(data["forces"], dtype=float) if data
+                   else np.zeros(9 * model.mesh.num_nodes_global))

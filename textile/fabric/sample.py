@@ -44,6 +44,7 @@ from petsc4py import PETSc
 from . import measures
 from .. import presets
 from ..effects.fibre_contact import ContactOptions, FibreContact
+from ..effects.nodal_loads import ReleasedForces
 from .fabric import Fabric
 from ..io import fabric_labels
 from ..io.state_file import load_fibres, saved_configuration
@@ -85,7 +86,12 @@ class Sample:
         slide over each other (a zero-stiffness mode). Friction starts
         afresh in the woven state (every contact sticking, no tangential
         force: ``FibreContact.reset_friction``): the yarns got there
-        slipping, at the friction limit.
+        slipping, at the friction limit. The friction forces the woven
+        state carried (between the fibres of a bundle) are held as dead
+        loads and released over the first stage (``released_friction``,
+        :class:`~textile.effects.nodal_loads.ReleasedForces`): taken away
+        at once, they let a bundle rearrange in one Newton solve, and an
+        element folds.
     free_ends:
         "yarns" or "fibres": what stands for the weaving run's end bodies at
         the yarn ends no side body holds (module docstring).
@@ -194,11 +200,19 @@ class Sample:
                     self._release += [body.add_force(np.zeros(3)), body.add_moment(np.zeros(3))]
                     self.model.add_rigid_body(body)
                     self.end_bodies.append(body)
+        # the friction forces the woven state's contacts carry, released
+        # over the first stage (ReleasedForces): friction starts afresh
+        self.released_friction = None
+        if woven is not None and self.contact is not None and self.contact.has_friction:
+            self.released_friction = ReleasedForces("friction forces of the woven state")
+            self.model.add_effect(self.released_friction)
         self.model.setup()
         if woven is not None:
             load_fibres(self.model, woven)
             if self.contact is not None:
-                self.contact.reset_friction(self.model)
+                removed = self.contact.reset_friction(self.model)
+                if removed is not None:
+                    self.released_friction.set(removed)
             self._hold_free_ends()
 
     def _hold_spin(self, ends, configuration: np.ndarray) -> None:

@@ -1,0 +1,87 @@
+"""A virtual test on a fabric of yarns that are bundles of fibres: uniaxial
+tension of a 2 x 2 plain weave of 3-fibre hexagonal bundles, 2 yarn widths
+apart, woven with the lifting weave (friction 0.2 between the fibres of a
+bundle, none between yarns) and saved.
+
+The woven state's bundles are held together by the friction between their
+fibres. A sample restarts friction (every contact sticking, no tangential
+force): taken away at once, those friction forces let the bundles
+rearrange in one Newton solve and an element folds, at every step size.
+The sample holds them as dead loads released over the test's first stage
+(textile.effects.nodal_loads.ReleasedForces); the test then runs through.
+
+Between yarns the contacts stay frictionless here, as in the weave: with
+friction restarted between yarns too, the contact loop of the settling
+stage swings between two states of the bundles' line contacts and does not
+settle (see issue 20's notes); flat yarns do not have these line contacts.
+"""
+import math
+
+import numpy as np
+import pytest
+from mpi4py import MPI
+
+import textile
+from textile.effects.nodal_loads import ReleasedForces
+from textile.fabric import Fabric, Yarn
+from textile.virtual_tests import IncompleteTest, Tension
+
+from tests.woven_states import woven_once
+
+R = 0.1e-3
+FIBRE = textile.Material(5.0e9, 0.35)
+QUIET = dict(verbose=False)
+#: the contacts between yarns stay frictionless (module docstring)
+CONTACT = dict(friction=0.0)
+STRAIN = 0.01
+
+
+def fabric():
+    yarn = Yarn(3, R, FIBRE, packing="hexagonal")
+    return Fabric(yarn, num_warp=2, num_weft=2, spacing=2 * yarn.width, pattern="plain",
+                  elements_per_crossing=4)
+
+
+@pytest.fixture(scope="module")
+def woven(tmp_path_factory):
+    return woven_once(tmp_path_factory, fabric(), QUIET)
+
+
+def tension(woven):
+    return Tension(fabric(), woven, STRAIN, steps=4, contact=CONTACT, solver_options=QUIET,
+                   comm=MPI.COMM_SELF)
+
+
+def test_the_bundles_friction_is_released_not_removed(woven):
+    test = tension(woven)
+    held = test.sample.released_friction
+    # the weave's friction between the fibres of a bundle, held at full value
+    assert held is not None and held.scale() == 1.0
+    forces = held.save_state(test.sample.model)["forces"].reshape(-1, 9)
+    # measured 4.06 N over the fibres (their contact forces are ~7 N a pair)
+    assert 1.0 < np.linalg.norm(forces[:, 0:3]) < 20.0
+    result = test.run()
+    # to the end (in 8 steps: the first 1/4 step folds an element and is cut)
+    assert result.steps[-1]["load_factor"] == pytest.approx(1.0) and len(result.steps) >= 4
+    # released by the end of the first stage
+    assert held.scale() == 0.0
+    # the side bodies balance (measured 1e-15 of the largest body force)
+    assert result.force_balance < 1e-10
+    # a positive stiffness below the straight yarns' (2 warp yarns of 3
+    # fibres, pulled straight, per unit width): crimp and the bundles'
+    # rearrangement soften it
+    width = result.figures["width"]
+    straight = 2 * 3 * FIBRE.young * math.pi * R ** 2 / width
+    stiffness = result.figures["membrane stiffness (force per width per strain)"]
+    assert 0 < stiffness < straight
+    # Newton: measured 22-24 iterations (4 contact passes) a loading step
+    assert max(s["newton_iterations"] for s in result.steps) <= 30
+
+
+def test_removed_at_once_the_bundles_fold(woven, monkeypatch):
+    """Without the release (the forces dropped at the start, as before):
+    the settling stage does not converge at any step size."""
+    monkeypatch.setattr(ReleasedForces, "set", lambda self, forces: None)
+    test = tension(woven)
+    with pytest.raises(IncompleteTest, match="load factor 0 of 1"):
+        test.run()
