@@ -281,46 +281,81 @@ class Sample:
         return float(fabric.num_weft * fabric.spacing[1])
 
     # -- stages and results -----------------------------------------------------
-    def _hold_free_ends(self) -> None:
-        """Set the loads at the free yarn ends to what the loaded state is
-        out of balance by there, so that it starts in equilibrium
-        (collective): per fibre end its generalized force (9 a node), or per
-        end body the resultant force and moment about its centre (a nodal
-        force f = (f_x, f_g1, f_g2) on (x0, g1, g2) has moment
-        (x0 - c) x f_x + g1 x f_g1 + g2 x f_g2: the section vectors turn as
-        dg = dtheta x g)."""
+    def _imbalance(self, ends: list) -> np.ndarray:
+        """(len(ends), 9): what the current state is out of balance by at
+        the fibre nodes ``ends`` ((fibre, node) pairs), their residual rows
+        with the bodies' multipliers at zero (collective)."""
         model, mesh = self.model, self.model.mesh
         b = model.x.duplicate()
         # as the model's own residual vector: constrained rows (index -1) skipped
         b.setOption(PETSc.Vec.Option.IGNORE_NEGATIVE_INDICES, True)
         model.residual(None, model.x, b)
         r = b.getArray(readonly=True)
-        imbalance = np.zeros((len(self._free_ends), 9))
-        local = mesh.global_to_local([mesh.node(f, k) for f, k in self._free_ends])
+        imbalance = np.zeros((len(ends), 9))
+        local = mesh.global_to_local([mesh.node(f, k) for f, k in ends])
         mine = np.flatnonzero((local >= 0) & (local < mesh.num_owned))
         if len(mine):
             rows = model.layout.offset("beam") + 9 * local[mine][:, None] + np.arange(9)
             imbalance[mine] = r[model.owned_positions(rows.ravel())].reshape(-1, 9)
-        imbalance = model.comm.allreduce(imbalance)
         b.destroy()
+        return model.comm.allreduce(imbalance)
+
+    def _resultant(self, body: RigidBody, ends: list, imbalance: np.ndarray) -> np.ndarray:
+        """(6,) force and moment about the body's centre of the generalized
+        forces ``imbalance`` at the fibre nodes ``ends`` (a nodal force
+        f = (f_x, f_g1, f_g2) on (x0, g1, g2) has moment
+        (x0 - c) x f_x + g1 x f_g1 + g2 x f_g2: the section vectors turn as
+        dg = dtheta x g)."""
+        model, mesh = self.model, self.model.mesh
+        b = next(i for i, t in enumerate(model.rigid_bodies.bodies) if t is body)
+        centre = model.rigid_bodies.positions()[b]
+        x = model.nodal_unknowns()[[mesh.node(f, k) for f, k in ends]]
+        f = imbalance
+        moment = np.cross(x[:, 0:3] - centre, f[:, 0:3]).sum(axis=0) + sum(
+            np.cross(x[:, 3 * j:3 * j + 3], f[:, 3 * j:3 * j + 3]).sum(axis=0) for j in (1, 2))
+        return np.concatenate([f[:, 0:3].sum(axis=0), moment])
+
+    def _hold_free_ends(self) -> None:
+        """Set the loads at the free yarn ends to what the loaded state is
+        out of balance by there, so that it starts in equilibrium
+        (collective): per fibre end its generalized force (9 a node), or per
+        end body the resultant force and moment about its centre."""
+        imbalance = self._imbalance(self._free_ends)
         if not self.end_bodies:
             values = imbalance
         else:
-            q = model.nodal_unknowns()
-            centres = model.rigid_bodies.positions()
             row = {e: i for i, e in enumerate(self._free_ends)}
             values = []
             for body in self.end_bodies:
-                b = next(i for i, t in enumerate(model.rigid_bodies.bodies) if t is body)
-                i = [row[(f, k)] for f, k in body.held("sections")]
-                f, x = imbalance[i], q[[mesh.node(fi, k) for fi, k in body.held("sections")]]
-                moment = np.cross(x[:, 0:3] - centres[b], f[:, 0:3]).sum(axis=0) + sum(
-                    np.cross(x[:, 3 * j:3 * j + 3], f[:, 3 * j:3 * j + 3]).sum(axis=0)
-                    for j in (1, 2))
-                values += [f[:, 0:3].sum(axis=0), moment]
+                ends = body.held("sections")
+                r = self._resultant(body, ends, imbalance[[row[e] for e in ends]])
+                values += [r[0:3], r[3:6]]
         for h, v in zip(self._release, values):
             h.schedule.start[h.index] = v
             h.schedule.target[h.index] = v
+
+    def hold_side_reactions(self) -> None:
+        """Call once the side bodies are held or driven (a virtual test's
+        ``drive``), before the first stage: the components a side body
+        leaves free (e.g. the shear test's xmax along x) get, as a dead
+        load, the reaction the woven state needs there (what held the yarn
+        ends in the weaving run: the yarns' weaving tension), released over
+        the first stage. Let go at once, the yarns' tension drops in one
+        step; a yarn of several fibres then rearranges in one Newton solve,
+        and an element folds (collective)."""
+        bodies = list(self.sides.values()) + [b for yarns in self.yarn_bodies.values()
+                                               for b in yarns.values()]
+        bodies = [b for b in bodies if len(b.prescribed) < 6]
+        ends = [e for b in bodies for e in b.held("sections") + b.held("pins")]
+        if not ends:
+            return
+        imbalance, k = self._imbalance(ends), 0
+        for body in bodies:
+            mine = body.held("sections") + body.held("pins")
+            r = self._resultant(body, mine, imbalance[k:k + len(mine)])
+            k += len(mine)
+            free = np.setdiff1d(np.arange(6), body.prescribed)
+            body.loads.start[free] += r[free]   # from there to the loads' own targets
 
     def release_stage(self, steps: int = 2) -> Stage:
         """The first stage: the forces that stand for the weaving run's

@@ -256,6 +256,9 @@ class VirtualTest:
         raises :class:`IncompleteTest`, whose ``result`` holds the steps
         done (written out like a finished test's)."""
         targets = self.drive()
+        # what the side bodies leave free lets the woven state go over the
+        # first stage, not at once
+        self.sample.hold_side_reactions()
         stages = [Stage(self.name, ramp=targets,
                         solver=dict(initial_step=1.0 / self.steps, max_step=1.0 / self.steps))]
         # the first stage lets the free yarn ends go, or (release_steps=0)
