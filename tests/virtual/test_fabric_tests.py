@@ -69,6 +69,23 @@ def test_uniaxial_tension(woven, tmp_path):
     guard.newton_count("fabric virtual uniaxial tension", result)
 
 
+def test_a_free_side_component_lets_the_woven_state_go_over_the_first_stage(woven):
+    """The shear test leaves side xmax free along x: there the woven state
+    needs the weave's pull on the warp yarns (tension 1e-4 of E A each,
+    textile.fabric.weaving.Weaving), which the side's body takes as a load
+    released over the first stage (Sample.hold_side_reactions), not at once;
+    its held components take nothing."""
+    test = Shear(fabric(), woven, 0.1 * fabric().spacing[0], steps=1, comm=MPI.COMM_SELF)
+    test.drive()
+    test.sample.hold_side_reactions()
+    loads = test.sample.sides["xmax"].loads
+    # the pull bodies' equilibrium, to the weave's Newton tolerance
+    # (rtol 1e-10 of its force scale)
+    assert loads.start[0] == pytest.approx(2 * 1e-4 * EA, rel=1e-8)
+    assert np.all(loads.start[1:] == 0) and np.all(loads.target == 0)
+    assert np.all(test.sample.sides["xmin"].loads.start == 0)
+
+
 def test_biaxial_crimp_interchange(woven):
     """Stretching the weft too makes the warp stiffer (crimp interchange):
     the warp's membrane stiffness rises with the weft/warp strain ratio."""

@@ -343,8 +343,8 @@ class Sample:
         the first stage. Let go at once, the yarns' tension drops in one
         step; a yarn of several fibres then rearranges in one Newton solve,
         and an element folds (collective)."""
-        bodies = list(self.sides.values()) + [b for yarns in self.yarn_bodies.values()
-                                               for b in yarns.values()]
+        bodies = list(self.sides.values()) + [
+            b for yarns in self.yarn_bodies.values() for b in yarns.values()]
         bodies = [b for b in bodies if len(b.prescribed) < 6]
         ends = [e for b in bodies for e in b.held("sections") + b.held("pins")]
         if not ends:
@@ -355,7 +355,7 @@ class Sample:
             r = self._resultant(body, mine, imbalance[k:k + len(mine)])
             k += len(mine)
             free = np.setdiff1d(np.arange(6), body.prescribed)
-            body.loads.start[free] += r[free]   # from there to the loads' own targets
+            body.loads.start[free] = r[free]    # from there to the loads' own targets
 
     def release_stage(self, steps: int = 2) -> Stage:
         """The first stage: the forces that stand for the weaving run's

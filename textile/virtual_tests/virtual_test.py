@@ -250,6 +250,17 @@ class VirtualTest:
         return (float(np.linalg.norm(total[0:3]) / f) if f > 0 else 0.0,
                 float(np.linalg.norm(total[3:6]) / m) if m > 0 else 0.0)
 
+    def first_stage(self) -> Stage:
+        """The stage before the loading: it lets the free yarn ends go
+        (``release_steps`` > 0), or only settles the loaded woven state with
+        this test's contact options; over it, the woven state's friction
+        forces and the side bodies' free components are released
+        (:class:`~textile.fabric.sample.Sample`). The curve starts where it
+        ends."""
+        if self.release_steps:
+            return self.sample.release_stage(self.release_steps)
+        return Stage("settle", solver=dict(initial_step=1.0, max_step=1.0))
+
     def run(self) -> VirtualTestResult:
         """Release (or settle), then load step by step; the result
         (collective). A step that fails even with the smallest increment
@@ -259,13 +270,9 @@ class VirtualTest:
         # what the side bodies leave free lets the woven state go over the
         # first stage, not at once
         self.sample.hold_side_reactions()
-        stages = [Stage(self.name, ramp=targets,
+        stages = [self.first_stage(),
+                  Stage(self.name, ramp=targets,
                         solver=dict(initial_step=1.0 / self.steps, max_step=1.0 / self.steps))]
-        # the first stage lets the free yarn ends go, or (release_steps=0)
-        # only settles the loaded woven state with this test's contact
-        # options: the curve starts where it ends
-        stages.insert(0, self.sample.release_stage(self.release_steps) if self.release_steps
-                      else Stage("settle", solver=dict(initial_step=1.0, max_step=1.0)))
         what = "composite" if isinstance(self.sample, Composite) else "woven sample"
         curve = LoadCurve(self.xlabel, self.ylabel, title=f"{self.name} of the {what}")
         result = VirtualTestResult(self.name, curve,
