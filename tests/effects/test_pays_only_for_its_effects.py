@@ -166,14 +166,23 @@ def test_friction_off_stage_allocates_no_history(friction_laws):
     made, kept = friction_laws
     press = {}
 
+    factorizations = []
+
+    def count(solver):
+        c = solver.counters
+        factorizations.append((c["ldlt_factorizations"], c["lu_factorizations"]))
+
     def run(contact, first, second):
         model, press["handle"] = crossed_model(contact)
         solver = textile.Solver(model, dict(verbose=False, initial_step=0.5, max_step=0.5))
+        count(solver)
         solver.run_stage(textile.Stage("press", effects={contact: first}))
+        count(solver)
         after_first = model.centreline(1).copy()
         n = len(made)
         solver.run_stage(textile.Stage("slide", ramp={press["handle"]: [1e-3, -1.2e-4]},
                                        effects={contact: second}))
+        count(solver)
         return after_first, n, model.centreline(1)
 
     first, n_first, _ = run(FibreContact(dict(friction=0.3)), dict(friction=False),
@@ -185,6 +194,11 @@ def test_friction_off_stage_allocates_no_history(friction_laws):
     assert on and all(h == size > 0 for _, h, size, _ in on), on
     assert min(made[n_first:]) == pytest.approx(0.3)
     assert max(f for *_, f in on) > 0
+    # the frictionless stage factorizes its symmetric tangent with LDL^T
+    # (half the work), the frictional one with LU
+    (ldlt0, lu0), (ldlt1, lu1), (ldlt2, lu2) = factorizations
+    assert ldlt1 > ldlt0 and lu1 == lu0
+    assert lu2 > lu1 and ldlt2 == ldlt1
     # the same scene built without friction: the same first stage
     made.clear()
     kept.clear()

@@ -241,10 +241,11 @@ class FibreContact(Effect):
 
     @property
     def symmetric_tangent(self) -> bool:
-        """Frictionless contact derives from a potential at fixed normals.
-        From the coefficients, whatever the stage's ``friction`` switch: the
-        solver chooses its factorization once for the whole run."""
-        return not self.has_friction
+        """Frictionless contact derives from a potential at fixed normals:
+        symmetric without friction coefficients, or in a stage with friction
+        switched off (the solver chooses the factorization at each stage's
+        start)."""
+        return not (self.has_friction and self._friction_on)
 
     @property
     def yarn_friction(self) -> np.ndarray | None:

@@ -69,6 +69,7 @@ class LinearSolver:
             raise ValueError("superlu_dist has no LDL^T factorization: use factorization='lu'")
         self.reuse = o.reuse_factorization
         self.krylov = self.reuse > 1 or o.low_rank_tolerance > 0
+        self.snes, self.comm, self.prefix = snes, comm, prefix
         ksp = snes.getKSP()
         if self.krylov:
             ksp.setType("gmres")
@@ -77,29 +78,58 @@ class LinearSolver:
             ksp.setNormType(PETSc.KSP.NormType.UNPRECONDITIONED)
         else:
             ksp.setType("preonly")
-        pc = ksp.getPC()
+        if o.linear_solver == "mumps" and o.low_rank_tolerance > 0:
+            opts = PETSc.Options()
+            opts[prefix + "mat_mumps_icntl_35"] = 2
+            opts[prefix + "mat_mumps_cntl_7"] = o.low_rank_tolerance
+        self._configure_pc()
+        self._since_factor = None  # Newton iterations since the last factorization
+        self.forced = 0            # factorizations forced by a failed or slow GMRES
+
+    def _configure_pc(self) -> None:
+        """The PC factorizes with ``self.kind`` (its options with it)."""
+        o, prefix = self.options, self.prefix
+        pc = self.snes.getKSP().getPC()
         pc.setType(self.kind)
         if o.linear_solver != "petsc":
             pc.setFactorSolverType(o.linear_solver)
-        opts = PETSc.Options()
-        if o.linear_solver == "mumps":
-            if o.low_rank_tolerance > 0:
-                opts[prefix + "mat_mumps_icntl_35"] = 2
-                opts[prefix + "mat_mumps_cntl_7"] = o.low_rank_tolerance
-            if self.kind == "cholesky":
-                # inertia (negative pivots) for the stability check: MUMPS
-                # reports it with null-pivot detection on, and in parallel
-                # with the root node factorized on one process
-                opts[prefix + "mat_mumps_icntl_24"] = 1
-                if comm.size > 1:
-                    opts[prefix + "mat_mumps_icntl_13"] = 1
-                    # the root node on one process with null-pivot detection
-                    # outgrows MUMPS's workspace estimate (INFOG(1) = -9 on a
-                    # composite with side bodies): relax it by 100% (not 20%)
-                    opts[prefix + "mat_mumps_icntl_14"] = 100
-        self._since_factor = None  # Newton iterations since the last factorization
-        self.forced = 0            # factorizations forced by a failed or slow GMRES
-        self.prefix = prefix
+        if o.linear_solver == "mumps" and self.kind == "cholesky":
+            opts = PETSc.Options()
+            # inertia (negative pivots) for the stability check: MUMPS
+            # reports it with null-pivot detection on, and in parallel
+            # with the root node factorized on one process
+            opts[prefix + "mat_mumps_icntl_24"] = 1
+            if self.comm.size > 1:
+                opts[prefix + "mat_mumps_icntl_13"] = 1
+                # the root node on one process with null-pivot detection
+                # outgrows MUMPS's workspace estimate (INFOG(1) = -9 on a
+                # composite with side bodies): relax it by 100% (not 20%)
+                opts[prefix + "mat_mumps_icntl_14"] = max(
+                    100, opts.getInt(prefix + "mat_mumps_icntl_14", 0))
+
+    def stage_symmetry(self, symmetric: bool) -> None:
+        """A stage begins whose tangent is (or is not) symmetric (e.g. its
+        friction is switched off): with ``factorization="auto"`` the
+        factorization follows it, LDL^T where it may (half the work, and
+        the inertia for the stability check), LU where it must. A change
+        costs one new analysis."""
+        o = self.options
+        if o.factorization != "auto":
+            if self.kind == "cholesky" and not symmetric:
+                raise ValueError("SolverOptions.factorization='cholesky' needs symmetric "
+                                 "tangents; this stage has a non-symmetric effect (friction, "
+                                 "end moments)")
+            return
+        kind = "cholesky" if symmetric and o.linear_solver != "superlu_dist" else "lu"
+        if kind == self.kind:
+            return
+        self.kind = kind
+        self.snes.getKSP().getPC().reset()
+        if kind == "lu":   # LU as a scene without symmetric stages gets it
+            for icntl in (24, 13):
+                PETSc.Options().delValue(f"{self.prefix}mat_mumps_icntl_{icntl}")
+        self._configure_pc()
+        self._since_factor = None
 
     # -- factorization policy --------------------------------------------------
     def operators(self, A: PETSc.Mat) -> tuple[PETSc.Mat, PETSc.Mat]:

@@ -133,6 +133,11 @@ class Newton:
         snes.setOptionsPrefix(self.prefix)
         return snes
 
+    def stage_began(self) -> None:
+        """A stage has begun (its effect options set): the factorization
+        follows its tangent's symmetry (LinearSolver.stage_symmetry)."""
+        self.linear.stage_symmetry(all(e.symmetric_tangent for e in self.model.effects))
+
     def _residual(self, snes, x, b) -> None:
         kept, self._kept_residual = self._kept_residual, None
         reuse = kept is not None and kept.matches(self.model, x)

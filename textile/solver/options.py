@@ -91,8 +91,9 @@ class SolverOptions(Options):
     linear_solver:
         "mumps" (default), "superlu_dist" or "petsc" (serial).
     factorization:
-        "auto" (LDL^T when every effect's tangent is symmetric, else LU),
-        "lu" or "cholesky" (LDL^T, symmetric indefinite).
+        "auto" (LDL^T in the stages where every effect's tangent is
+        symmetric, e.g. friction switched off, else LU), "lu" or "cholesky"
+        (LDL^T, symmetric indefinite).
     reuse_factorization:
         1: factorize the tangent every Newton iteration. n > 1: keep a
         factorization for up to n iterations as the preconditioner of GMRES
@@ -112,7 +113,7 @@ class SolverOptions(Options):
         the tangent from the Newton solver's LDL^T factorization (its
         negative pivots, less those of zero-energy motions: a fibre's
         sections free to spin, ...; see :mod:`textile.stability.inertia`); checked
-        when the scene's tangent is symmetric, not otherwise. Recorded per
+        in the stages whose tangent is symmetric, not otherwise. Recorded per
         step (``StepRecord.stability``, results.json) with a warning the
         first time stability is lost. "off": no check.
     branch_switching:

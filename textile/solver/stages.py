@@ -64,6 +64,7 @@ class Stages(Stepping):
         if m.begin_stage(stage):
             # the prescribed set changed: a new matrix for the new rows
             self.newton.set_operators(m.A)
+        self.newton.stage_began()
         self.options = options
         self.previous = None  # no secant predictor across stages
         self.log(f"stage {self.stage_index}: {stage.name}")
@@ -88,6 +89,7 @@ class Stages(Stepping):
         self.stage = stage
         if m.update_constraints():   # the saved releases again: the same set, as a rule
             self.newton.set_operators(m.A)
+        self.newton.stage_began()
         self.options = dataclasses.replace(self.base_options, **stage.solver)
         self.log(f"stage {self.stage_index}: {stage.name} resumed at s={m.load_factor:.6g}")
         try:
