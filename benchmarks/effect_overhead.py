@@ -106,7 +106,8 @@ def run_model(args, trace: bool) -> dict:
                 newton_per_step=[h.newton_iterations for h in history],
                 attempts=[h.attempts for h in history], tip=tip.tolist(),
                 unknowns=int(model.x.getSize()), linear=solver.linear.kind,
-                matrix_type=model.A.getType(), threads=int(model.beam._assembler.num_threads),
+                matrix_type=model.A.getType(), block_size=int(model.A.getBlockSize()),
+                threads=int(model.beam._assembler.num_threads),
                 rss_before_mb=before, peak_mb=peak_mb(), traced_peak_mb=traced,
                 counts={k: v for k, v in counts.items() if isinstance(v, (int, float))})
 
@@ -324,7 +325,8 @@ def main(argv=None):
     a = dict(fibres=args.fibres, elements_per_fibre=args.elements,
              unknowns=models[0]["unknowns"], newton_iterations=its,
              newton_per_step=models[0]["newton_per_step"], linear=models[0]["linear"],
-             matrix_type=models[0]["matrix_type"], element_threads=models[0]["threads"],
+             matrix_type=models[0]["matrix_type"], matrix_block_size=models[0]["block_size"],
+             element_threads=models[0]["threads"],
              model_per_iteration_ms=1e3 * median(models, "seconds") / its,
              bound_per_iteration_ms=1e3 * median(bounds, "seconds") / its,
              model_seconds=[m["seconds"] for m in models],
@@ -346,7 +348,8 @@ def main(argv=None):
     result["fibre_only"] = a
     print(f"(a) fibre-only: {args.fibres} fibres x {args.elements} quadratic elements, "
           f"{a['unknowns']} unknowns, {its} Newton iterations {a['newton_per_step']}, "
-          f"{a['linear']} ({a['matrix_type']}), {a['element_threads']} element threads; "
+          f"{a['linear']} ({a['matrix_type']}, block size {a['matrix_block_size']}), "
+          f"{a['element_threads']} element threads; "
           f"median of {rep}")
     print(f"    per Newton iteration: model {a['model_per_iteration_ms']:.1f} ms, lower bound "
           f"{a['bound_per_iteration_ms']:.1f} ms: overhead {100 * a['overhead_time']:+.1f}%")
