@@ -58,8 +58,9 @@ def test_the_bundles_friction_is_released_not_removed(woven):
     # the weave's friction between the fibres of a bundle, held at full value
     assert held is not None and held.scale() == 1.0
     forces = held.save_state(test.sample.model)["forces"].reshape(-1, 9)
-    # measured 4.06 N over the fibres (their contact forces are ~7 N a pair)
-    assert 1.0 < np.linalg.norm(forces[:, 0:3]) < 20.0
+    # measured 1.9039 N over the fibres (their contact forces are ~7 N a
+    # pair); 2%: the woven state follows the weave's contact-loop path
+    assert np.linalg.norm(forces[:, 0:3]) == pytest.approx(1.9039, rel=0.02)
     result = test.run()
     # to the end (in 8 steps: the first 1/4 step folds an element and is cut)
     assert result.steps[-1]["load_factor"] == pytest.approx(1.0) and len(result.steps) >= 4

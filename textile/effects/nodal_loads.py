@@ -140,9 +140,11 @@ class ReleasedForces(Effect):
     def setup(self, model) -> None:
         self._model, self._mesh, self._comm = model, model.mesh, model.comm
 
-    def scale(self) -> float:
-        """The forces' current scale: 1 at full value, 0 released."""
-        return float(self.schedule.values(self._model.load_factor)[self.handle.index[0]])
+    def scale(self, load_factor: float | None = None) -> float:
+        """The forces' scale (1: full value, 0: released) at ``load_factor``
+        of the current stage (default: the model's)."""
+        s = self._model.load_factor if load_factor is None else load_factor
+        return float(self.schedule.values(s)[self.handle.index[0]])
 
     def set(self, forces: np.ndarray) -> None:
         """Hold ``forces`` (this rank's share, 9 per global node: the ranks'
@@ -169,19 +171,16 @@ class ReleasedForces(Effect):
         self._local = np.concatenate([rows.ravel(),
                                       np.zeros(9 * (len(mesh.local_to_global) - mesh.num_owned))])
 
-    def _scale(self, state: State) -> float:
-        return float(self.schedule.values(state.load_factor)[self.handle.index[0]])
-
     def residual(self, state: State, b) -> None:
         if self._local is not None:
-            s = self._scale(state)
+            s = self.scale(state.load_factor)
             if s != 0.0:
                 b["beam"] += s * self._local
 
     def external(self, state: State, b) -> None:
         # the held forces count as applied loads (the convergence test's scale)
         if self._local is not None:
-            s = self._scale(state)
+            s = self.scale(state.load_factor)
             if s != 0.0:
                 b["beam"] -= s * self._local
 

@@ -300,20 +300,25 @@ class Sample:
         b.destroy()
         return model.comm.allreduce(imbalance)
 
-    def _resultant(self, body: RigidBody, ends: list, imbalance: np.ndarray) -> np.ndarray:
-        """(6,) force and moment about the body's centre of the generalized
-        forces ``imbalance`` at the fibre nodes ``ends`` (a nodal force
+    def _resultants(self, bodies: list, ends: list, imbalance: np.ndarray) -> list:
+        """Per body, the (6,) force and moment about its centre of the
+        generalized forces ``imbalance`` at its fibre nodes (``ends``: one
+        list per body, ``imbalance`` their rows in that order; a nodal force
         f = (f_x, f_g1, f_g2) on (x0, g1, g2) has moment
         (x0 - c) x f_x + g1 x f_g1 + g2 x f_g2: the section vectors turn as
-        dg = dtheta x g)."""
+        dg = dtheta x g) (collective)."""
         model, mesh = self.model, self.model.mesh
-        b = next(i for i, t in enumerate(model.rigid_bodies.bodies) if t is body)
-        centre = model.rigid_bodies.positions()[b]
-        x = model.nodal_unknowns()[[mesh.node(f, k) for f, k in ends]]
-        f = imbalance
-        moment = np.cross(x[:, 0:3] - centre, f[:, 0:3]).sum(axis=0) + sum(
-            np.cross(x[:, 3 * j:3 * j + 3], f[:, 3 * j:3 * j + 3]).sum(axis=0) for j in (1, 2))
-        return np.concatenate([f[:, 0:3].sum(axis=0), moment])
+        q, centres = model.nodal_unknowns(), model.rigid_bodies.positions()
+        index = {id(t): i for i, t in enumerate(model.rigid_bodies.bodies)}
+        out, k = [], 0
+        for body, mine in zip(bodies, ends):
+            f, k = imbalance[k:k + len(mine)], k + len(mine)
+            x = q[[mesh.node(fi, n) for fi, n in mine]]
+            moment = np.cross(x[:, 0:3] - centres[index[id(body)]], f[:, 0:3]).sum(axis=0) + sum(
+                np.cross(x[:, 3 * j:3 * j + 3], f[:, 3 * j:3 * j + 3]).sum(axis=0)
+                for j in (1, 2))
+            out.append(np.concatenate([f[:, 0:3].sum(axis=0), moment]))
+        return out
 
     def _hold_free_ends(self) -> None:
         """Set the loads at the free yarn ends to what the loaded state is
@@ -325,10 +330,10 @@ class Sample:
             values = imbalance
         else:
             row = {e: i for i, e in enumerate(self._free_ends)}
+            ends = [body.held("sections") for body in self.end_bodies]
+            rows = [row[e] for mine in ends for e in mine]
             values = []
-            for body in self.end_bodies:
-                ends = body.held("sections")
-                r = self._resultant(body, ends, imbalance[[row[e] for e in ends]])
+            for r in self._resultants(self.end_bodies, ends, imbalance[rows]):
                 values += [r[0:3], r[3:6]]
         for h, v in zip(self._release, values):
             h.schedule.start[h.index] = v
@@ -346,14 +351,11 @@ class Sample:
         bodies = list(self.sides.values()) + [
             b for yarns in self.yarn_bodies.values() for b in yarns.values()]
         bodies = [b for b in bodies if len(b.prescribed) < 6]
-        ends = [e for b in bodies for e in b.held("sections") + b.held("pins")]
-        if not ends:
+        ends = [b.held("sections") + b.held("pins") for b in bodies]
+        if not any(ends):
             return
-        imbalance, k = self._imbalance(ends), 0
-        for body in bodies:
-            mine = body.held("sections") + body.held("pins")
-            r = self._resultant(body, mine, imbalance[k:k + len(mine)])
-            k += len(mine)
+        imbalance = self._imbalance([e for mine in ends for e in mine])
+        for body, r in zip(bodies, self._resultants(bodies, ends, imbalance)):
             free = np.setdiff1d(np.arange(6), body.prescribed)
             body.loads.start[free] = r[free]    # from there to the loads' own targets
 
