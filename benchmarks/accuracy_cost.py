@@ -1047,7 +1047,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="reduced sweep (under 2 minutes)")
     ap.add_argument("--cases", default=None, help="comma-separated (default: all; quick: "
-                    + ",".join(QUICK) + ")")
+                    + ",".join(QUICK) + "); a partial sweep writes accuracy_cost[_quick]_"
+                    "<cases>.md, leaving the full report")
     ap.add_argument("--out", default=None, help="directory of the report (default benchmarks/)")
     args = ap.parse_args(argv)
     cases = args.cases.split(",") if args.cases else list(QUICK if args.quick else DEFAULTS)
@@ -1061,15 +1062,20 @@ def main(argv=None):
     results = run_cases(cases, args.quick)
     elapsed = time.perf_counter() - t0
     suffix = "_quick" if args.quick else ""
-    write_report(results, args.quick, elapsed, os.path.join(base, f"accuracy_cost{suffix}.md"))
+    # a partial sweep writes its own report, figures and JSON: the full
+    # sweep's stay
+    partial = set(cases) != set(QUICK if args.quick else DEFAULTS)
+    report = f"accuracy_cost{suffix}" + ("_" + "-".join(cases) if partial else "")
+    write_report(results, args.quick, elapsed, os.path.join(base, f"{report}.md"))
     for case, rows in results.items():
-        plot(case, rows, os.path.join(out, f"accuracy_cost_{case}{suffix}.png"))
-    with open(os.path.join(out, f"accuracy_cost{suffix}.json"), "w") as fh:
+        plot(case, rows, os.path.join(
+            out, f"accuracy_cost_{case}{suffix}{'_partial' if partial else ''}.png"))
+    with open(os.path.join(out, f"{report}.json"), "w") as fh:
         json.dump(dict(date=time.strftime("%Y-%m-%d %H:%M:%S %Z"), quick=args.quick,
                        machine=machine(), elapsed=elapsed, results=results), fh, indent=1,
                   default=_fmt)
-    print(f"\n{elapsed:.0f} s; wrote {os.path.join(base, f'accuracy_cost{suffix}.md')} and "
-          f"{out}/accuracy_cost_*{suffix}.png")
+    print(f"\n{elapsed:.0f} s; wrote {os.path.join(base, f'{report}.md')} and "
+          f"{out}/accuracy_cost_*{suffix}{'_partial' if partial else ''}.png")
     return results
 
 

@@ -134,3 +134,15 @@ def test_twisted_pair_is_symmetric_and_capstan_within_its_floor(quick):
     # ratio's floor on 16 arc elements); 5x
     for e in errors(results, "capstan", "update_tolerance").values():
         assert e < 5e-4 and math.isfinite(e)
+
+
+def test_a_partial_sweep_leaves_the_full_report(tmp_path):
+    # --cases alone used to overwrite accuracy_cost[_quick].md with a
+    # one-case report
+    bench = _benchmark()
+    (tmp_path / "accuracy_cost_quick.md").write_text("the full report")
+    bench.main(["--quick", "--cases", "rollup", "--out", str(tmp_path)])
+    assert (tmp_path / "accuracy_cost_quick.md").read_text() == "the full report"
+    assert "## rollup:" in (tmp_path / "accuracy_cost_quick_rollup.md").read_text()
+    assert (tmp_path / "output" / "accuracy_cost_rollup_quick_partial.png").exists()
+    assert (tmp_path / "output" / "accuracy_cost_quick_rollup.json").exists()
