@@ -58,6 +58,12 @@ MATRIX = textile.Material(3.0e9, 0.35)   # an epoxy
 PAPER = {"shear": dict(hours_per_step=2.0, steps=30, newton_per_step="30-40"),
          "bending": dict(hours_per_step=3.0, steps=15, newton_per_step="30-40"),
          "twisting": dict(hours_per_step=3.0, steps=15, newton_per_step="30-40")}
+#: the solver counters recorded per step (textile.Solver.counters)
+STEP_COUNTERS = ("newton_iterations", "newton_solves", "factorizations", "factorization_seconds",
+                 "linear_solves_seconds", "stability_check_seconds", "factorizations_at_solution",
+                 "zero_motion_searches", "zero_motion_seconds", "branch_switches",
+                 "branch_attempts",
+                 "branch_switch_seconds", "eigen_solve_seconds")
 
 
 class DetectionClock:
@@ -103,14 +109,21 @@ def run_test(name: str, fabric, woven: str, steps: int, args, comm, progress) ->
     started = time.perf_counter()
     done = []
 
+    counted = {}
+
     def on_step(solver, rec):
         # collective (every rank calls on_step): each rank's peak memory so far
         rss = comm.gather(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
+        # what this step cost, from the solver's counters (failed attempts
+        # and the stability check included)
+        now = {k: solver.counters[k] for k in STEP_COUNTERS}
+        cost = {k: v - counted.get(k, 0) for k, v in now.items()}
+        counted.update(now)
         done.append(dict(step=rec.step, stage=rec.stage, load_factor=rec.load_factor,
                          newton_iterations=rec.newton_iterations, attempts=rec.attempts,
                          wall_seconds=rec.wall_time,
                          elapsed_seconds=time.perf_counter() - started,
-                         peak_rss_mib_ranks=rss))
+                         peak_rss_mib_ranks=rss, stability=rec.stability, counters=cost))
         progress(dict(test=name, unfinished=True, steps_so_far=done))
     test.on_step = on_step
     with DetectionClock() as detection:

@@ -102,6 +102,12 @@ def test_branch_switching_follows_the_buckled_column(out, dt, slenderness):
     # (no factorization beyond Newton's: one per tangent)
     assert solver.counters["eigen_solves"] == 1
     assert solver.counters["factorizations"] == solver.counters["jacobian_evaluations"]
+    # every Newton solve is a step's or a perturbed state's: the stable
+    # equilibrium found is kept as solved, not solved again
+    c = solver.counters
+    assert c["newton_solves"] == (c["accepted_steps"] + c["failed_attempts"]
+                                  + c["branch_attempts"]), c
+    assert c["branch_switches"] == 1 and c["stability_checks"] == c["accepted_steps"]
     assert model.centreline(fib)[-1, 2] > 0.5 * L  # buckled towards +z, the lateral force
     # 1.6 P_cr on the elastica: measured 0.045% off at L/R = 500, 0.054% at
     # 2000 and 10^4 (extensibility, shear, the discretization, the 1e-4

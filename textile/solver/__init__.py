@@ -58,7 +58,8 @@ from .newton import (CYCLE_ITERATIONS, CYCLE_PERIOD, CYCLE_TOLERANCE,  # noqa: F
 from .options import (_OWN_REASONS, DIVERGED_EFFECTS_UNSETTLED,  # noqa: F401
                       DIVERGED_NEWTON_CYCLE, Attempt, ConvergenceError, StabilityWarning,
                       SolverOptions, StepRecord, reason_name, say)
-from .stability_check import StabilityCheck, max_op  # noqa: F401
+from .branch_switching import max_op  # noqa: F401
+from .stability_check import StabilityCheck  # noqa: F401
 from .stages import STAGE_OPTIONS, Stages
 from .stepping import StepControl, Stepping  # noqa: F401
 
@@ -154,7 +155,11 @@ class Solver:
         and their wall time (from PETSc's event log), failed attempts,
         accepted steps, the stability check's searches for zero-energy
         motions and eigen-solves for critical modes (SLEPc; both reuse the
-        Newton factorization: solves only) and their wall time."""
+        Newton factorization: solves only) and their wall time, the checks
+        and their own wall time (``stability_check_seconds``; factorizations
+        of the tangent at a converged state where Newton's last one was not
+        at it: ``factorizations_at_solution``), branch switches and their
+        wall time (critical modes and Newton solves)."""
         now = event_counts()
         out = dict(self._counts)
         for k, v in now.items():

@@ -61,7 +61,10 @@ def new_counts() -> dict:
     return dict(newton_solves=0, newton_iterations=0, failed_attempts=0,
                 accepted_steps=0, residual_evaluations=0, jacobian_evaluations=0,
                 linear_solve_retries=0, eigen_solves=0, eigen_solve_seconds=0.0,
-                zero_motion_searches=0, zero_motion_seconds=0.0)
+                zero_motion_searches=0, zero_motion_seconds=0.0, stability_checks=0,
+                stability_check_seconds=0.0, branch_switches=0, branch_attempts=0,
+                branch_switch_seconds=0.0,
+                factorizations_at_solution=0)
 
 
 @dataclass

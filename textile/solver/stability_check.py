@@ -1,7 +1,7 @@
 """The stability of a converged step, as the solver uses it: inertia
 (negative eigenvalues of the tangent from the Newton factorization, less
 the multipliers' and the zero-energy motions'), branch switching along
-the critical modes (SLEPc) and the signs of a limit point (current
+the critical modes (SLEPc; :mod:`.branch_switching`) and the signs of a limit point (current
 stiffness parameter). The numerics are :mod:`textile.stability.inertia` and
 :mod:`textile.stability.zero_motions`; this module decides when to use them.
 """
@@ -10,20 +10,14 @@ from __future__ import annotations
 import time
 import warnings
 
-import numpy as np
 from petsc4py import PETSc
 
 from ..stability.inertia import (Inertia, critical_modes, factor_negative_pivots,
                                  zero_motion_pivots)
 from ..stability.zero_motions import describe, zero_energy_motions
+from .branch_switching import BranchSwitching
 from .contact_loop import ContactLoop
 from .options import StabilityWarning, say
-
-
-def max_op():
-    from mpi4py import MPI
-
-    return MPI.MAX
 
 
 class StabilityCheck:
@@ -44,6 +38,7 @@ class StabilityCheck:
         self.negative = 0
         self.warned_unstable = False
         self.warned_singular = False
+        self.branch_switching = BranchSwitching(self)
 
     def warning(self, message: str) -> None:
         """A StabilityWarning on rank 0."""
@@ -87,6 +82,7 @@ class StabilityCheck:
         """Factorize the exact tangent at the converged state (the Newton
         solve ended without a factorization close enough to it)."""
         m = self.model
+        self.counts["factorizations_at_solution"] += 1
         newton, m.newton = m.newton, "standard"
         try:
             self.counts["jacobian_evaluations"] += 1
@@ -100,7 +96,21 @@ class StabilityCheck:
 
     def check(self, t: float) -> dict:
         """At a converged step: count negative eigenvalues, warn the first
-        time stability is lost, switch branch if asked."""
+        time stability is lost, switch branch if asked. Counted and timed:
+        ``stability_check_seconds`` is the check's own time (inertia, a
+        factorization at the solution, the zero-motion search), the branch
+        switching's (``branch_switch_seconds``: critical modes and Newton
+        solves) apart."""
+        t0 = time.perf_counter()
+        switching = self.counts["branch_switch_seconds"]
+        try:
+            return self._check(t)
+        finally:
+            self.counts["stability_checks"] += self.options.stability_check != "off"
+            self.counts["stability_check_seconds"] += (
+                time.perf_counter() - t0 - (self.counts["branch_switch_seconds"] - switching))
+
+    def _check(self, t: float) -> dict:
         o = self.options
         inertia = self.inertia()
         out = dict(negative_eigenvalues=inertia.negative, negative_pivots=inertia.pivots,
@@ -114,7 +124,7 @@ class StabilityCheck:
                       f"not counted as negative eigenvalues (hold them if they should be)")
         before = self.negative
         if inertia.negative > before and o.branch_switching:
-            switched = self.switch_branch(t, inertia, before)
+            switched = self.branch_switching.switch(t, inertia, before)
             if switched is not None:
                 inertia = switched
                 out.update(negative_eigenvalues=inertia.negative, negative_pivots=inertia.pivots,
@@ -159,93 +169,6 @@ class StabilityCheck:
         f.getArray()[m.residual_groups.rows["constraints"]] = 0.0
         r1.destroy()
         return f
-
-    def switch_branch(self, t: float, found: Inertia, before: int) -> Inertia | None:
-        """Perturb the unstable converged state along its critical modes and
-        solve again at the same load; the first stable answer is kept.
-
-        The direction is the part of the load pattern f along the critical
-        modes, d = sum_i (phi_i . f) phi_i, oriented so that the load does
-        positive work along it: an imperfection (a small lateral force)
-        picks its own branch, as the physical structure would; a perfect
-        structure falls back to the first mode, both signs."""
-        m, o = self.model, self.options
-        self.log(f"  t={t:.6g}: unstable ({found.negative} negative eigenvalue(s)): branch "
-                 f"switching along the critical modes (SLEPc)")
-        values, modes = self.critical_modes(found.negative - before,
-                                            [z.vector for z in found.motions or []])
-        if not modes:
-            return None
-        f = self.load_pattern(t)
-        d = modes[0].duplicate()
-        d.set(0.0)
-        for mode in modes:
-            d.axpy(mode.dot(f), mode)
-        work = d.dot(f)
-        directions = [d, -d] if work > 1e-12 * f.norm() * d.norm() \
-            else [modes[0], -modes[0]]
-        unstable = m.x.copy()
-        length = max(f_.length for f_ in m.mesh.fibres)
-        positions = m.residual_groups.rows["positions"]
-        stable = []  # (state, inertia) of stable equilibria found
-        for amplitude in o.branch_amplitudes:
-            for direction in directions:
-                scale = self.comm.allreduce(
-                    float(np.abs(direction.getArray(readonly=True)[positions]).max(initial=0.0)),
-                    op=max_op())
-                if scale == 0:
-                    continue
-                unstable.copy(m.x)
-                m.x.axpy(amplitude * length / scale, direction)
-                for e in m.effects:
-                    e.restore(m)
-                attempt = self.step_to(t, predict=False)
-                inertia = self.inertia()
-                if attempt.converged and inertia.checked and inertia.negative <= before:
-                    stable.append((m.x.copy(), inertia))
-            if stable:
-                break
-        if not stable:
-            unstable.copy(m.x)
-            for e in m.effects:
-                e.restore(m)
-            self.step_to(t, predict=False)  # effects, residual and tangent at it again
-            self.warn(f"branch switching at t={t:.6g} found no stable equilibrium near the "
-                      f"unstable one (amplitudes {o.branch_amplitudes} of the fibre length)")
-            return None
-        # of several stable equilibria, the one of least potential energy
-        best, inertia = stable[0]
-        for x, i in stable[1:]:
-            if self.energy_difference(best, x) < 0:
-                best, inertia = x, i
-        best.copy(m.x)
-        for e in m.effects:
-            e.restore(m)
-        attempt = self.step_to(t, predict=False)  # effects and tangent at the chosen state
-        self.log(f"    branch switched at t={t:.6g} along the critical mode(s) "
-                 f"(eigenvalue {values[0]:.3g})")
-        return self.inertia() if attempt.converged else inertia
-
-    def energy_difference(self, xa: PETSc.Vec, xb: PETSc.Vec) -> float:
-        """Potential energy of state b minus state a (same load factor):
-        the residual integrated along the straight path between them (4-point
-        Gauss), over the free unknowns (exact for conservative effects)."""
-        m = self.model
-        dx = xb.copy()
-        dx.axpy(-1.0, xa)
-        free = np.ones(len(dx.getArray()), dtype=bool)
-        free[m.residual_groups.rows["constraints"]] = False
-        x = xa.duplicate()
-        r = m.b.duplicate()
-        total = 0.0
-        points, weights = np.polynomial.legendre.leggauss(4)
-        for p, w in zip(points, weights):
-            xa.copy(x)
-            x.axpy(0.5 * (p + 1.0), dx)
-            m.residual(None, x, r)
-            total += 0.5 * w * float(np.dot(r.getArray(readonly=True)[free],
-                                            dx.getArray(readonly=True)[free]))
-        return self.comm.allreduce(total)
 
     def diagnose(self, t: float, previous=None, first_increment=None) -> str:
         """Why the path may have ended, from the converged steps: the
