@@ -108,6 +108,12 @@ def test_branch_switching_follows_the_buckled_column(out, dt, slenderness):
     assert c["newton_solves"] == (c["accepted_steps"] + c["failed_attempts"]
                                   + c["branch_attempts"]), c
     assert c["branch_switches"] == 1 and c["stability_checks"] == c["accepted_steps"]
+    # the switch is recorded with its critical mode: a negative eigenvalue of
+    # the fibre's unknowns (no multiplier here), energy released, the tip moved
+    mode = next(s["critical_mode"] for s in data["steps"] if s["branch_switched"])
+    assert mode["eigenvalue"] < 0 and mode["energy_released"] > 0
+    assert mode["mode_share"]["positions"] + mode["mode_share"]["sections"] == pytest.approx(1)
+    assert mode["moved"] > 0.1 * L
     assert model.centreline(fib)[-1, 2] > 0.5 * L  # buckled towards +z, the lateral force
     # 1.6 P_cr on the elastica: measured 0.045% off at L/R = 500, 0.054% at
     # 2000 and 10^4 (extensibility, shear, the discretization, the 1e-4

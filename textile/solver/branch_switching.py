@@ -33,6 +33,10 @@ class BranchSwitching:
         self.options = check.options
         self.comm = check.comm
         self.counts = check.counts
+        #: the last switch's critical mode (eigenvalue, share of each group
+        #: of unknowns in it) and, once switched, the largest move of a
+        #: position unknown and the potential energy released
+        self.found: dict = {}
 
     def switch(self, t: float, found: Inertia, before: int) -> Inertia | None:
         """Perturb the unstable converged state along its critical modes and
@@ -48,6 +52,7 @@ class BranchSwitching:
         equilibrium of least potential energy. Each amplitude of
         ``branch_amplitudes`` is tried in turn, the smallest first."""
         t0 = time.perf_counter()
+        self.found = {}
         self.check.log(f"  t={t:.6g}: unstable ({found.negative} negative eigenvalue(s)): "
                        f"branch switching along the critical modes (SLEPc)")
         try:
@@ -55,6 +60,13 @@ class BranchSwitching:
                                                       [z.vector for z in found.motions or []])
             if not modes:
                 return None
+            # what the critical mode is made of (the share of each group of
+            # unknowns in its norm): a mode on the multipliers alone is a
+            # redundant constraint, not an instability
+            groups = self.model.residual_groups
+            norms = groups.norms(modes[0].getArray(readonly=True))
+            self.found = dict(eigenvalue=float(values[0]), mode_share={
+                n: float(v ** 2) for n, v in zip(groups.names, norms)})
             f = self.check.load_pattern(t)
             d = modes[0].duplicate()
             d.set(0.0)
@@ -114,6 +126,13 @@ class BranchSwitching:
             if self.energy_difference(stable[chosen][0], stable[i][0]) < 0:
                 chosen = i
         best, inertia = stable[chosen]
+        # how far the switch moved the fibres and the energy it released
+        positions = m.residual_groups.rows["positions"]
+        moved = (best.getArray(readonly=True)[positions]
+                 - unstable.getArray(readonly=True)[positions])
+        self.found.update(moved=self.comm.allreduce(float(np.abs(moved).max(initial=0.0)),
+                                                    op=max_op()),
+                          energy_released=-self.energy_difference(unstable, best))
         self.check.log(f"    branch switched at t={t:.6g} along the critical mode(s) "
                        f"(eigenvalue {eigenvalue:.3g})")
         if chosen == last:

@@ -125,6 +125,7 @@ class StabilityCheck:
         before = self.negative
         if inertia.negative > before and o.branch_switching:
             switched = self.branch_switching.switch(t, inertia, before)
+            out["critical_mode"] = dict(self.branch_switching.found)
             if switched is not None:
                 inertia = switched
                 out.update(negative_eigenvalues=inertia.negative, negative_pivots=inertia.pivots,
