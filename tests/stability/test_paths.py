@@ -114,6 +114,10 @@ def test_branch_switching_follows_the_buckled_column(out, dt, slenderness):
     assert mode["eigenvalue"] < 0 and mode["energy_released"] > 0
     assert mode["mode_share"]["positions"] + mode["mode_share"]["sections"] == pytest.approx(1)
     assert mode["moved"] > 0.1 * L
+    # the factorization's eigenpair is the assembled tangent's (v.Kv = lambda,
+    # |Kv| = |lambda|; measured to 1e-7 relative: the eigen-solve's tolerance)
+    assert mode["rayleigh_with_the_matrix"] == pytest.approx(mode["eigenvalue"], rel=1e-5)
+    assert mode["image_norm_with_the_matrix"] == pytest.approx(-mode["eigenvalue"], rel=1e-5)
     assert model.centreline(fib)[-1, 2] > 0.5 * L  # buckled towards +z, the lateral force
     # 1.6 P_cr on the elastica: measured 0.045% off at L/R = 500, 0.054% at
     # 2000 and 10^4 (extensibility, shear, the discretization, the 1e-4

@@ -66,7 +66,8 @@ class BranchSwitching:
             groups = self.model.residual_groups
             norms = groups.norms(modes[0].getArray(readonly=True))
             self.found = dict(eigenvalue=float(values[0]), mode_share={
-                n: float(v ** 2) for n, v in zip(groups.names, norms)})
+                n: float(v ** 2) for n, v in zip(groups.names, norms)},
+                **self.with_the_matrix(modes[0]))
             f = self.check.load_pattern(t)
             d = modes[0].duplicate()
             d.set(0.0)
@@ -79,6 +80,27 @@ class BranchSwitching:
         finally:
             self.counts["branch_switches"] += 1
             self.counts["branch_switch_seconds"] += time.perf_counter() - t0
+
+    def with_the_matrix(self, mode: PETSc.Vec) -> dict:
+        """The critical mode (unit norm) checked with the assembled tangent K
+        itself rather than its factorization (approximate with block low-rank
+        compression): the Rayleigh quotient v.PKPv and |PKPv| (P zeroing the
+        constrained rows). An eigenpair of K has |PKPv| = |v.PKPv| = |lambda|;
+        much more than |lambda| means the factorization's eigenvalue is not
+        the tangent's."""
+        K = self.check.newton.snes.getKSP().getOperators()[0]
+        free = np.ones(len(mode.getArray(readonly=True)), dtype=bool)
+        free[self.model.constrained_positions()] = False
+        v = mode.copy()
+        v.getArray()[~free] = 0.0
+        w = v.duplicate()
+        K.mult(v, w)
+        w.getArray()[~free] = 0.0
+        out = dict(rayleigh_with_the_matrix=float(v.dot(w)),
+                   image_norm_with_the_matrix=float(w.norm()))
+        v.destroy()
+        w.destroy()
+        return out
 
     def _perturb_and_solve(self, t, before, directions, oriented, eigenvalue):
         """switch's attempts: the state perturbed along each
