@@ -66,7 +66,9 @@ def test_bad_options_are_named():
     for bad, match in [(dict(factorization="qr"), "factorization"),
                        (dict(reuse_factorization=0), "reuse_factorization"),
                        (dict(low_rank_tolerance=-1), "low_rank_tolerance"),
-                       (dict(newton="quasi"), "newton")]:
+                       (dict(newton="quasi"), "newton"),
+                       (dict(newton_per_pass=-1), "newton_per_pass must be a non-negative"),
+                       (dict(newton_per_pass=2.5), "newton_per_pass must be a non-negative")]:
         with pytest.raises(ValueError, match=match):
             textile.Solver(model, bad)
 

@@ -114,9 +114,11 @@ def test_bundles_weave_by_lifting():
     # flattened: 3.7 R high and 4 R wide at the start, 2.6 R x 5.8 R woven
     # (measured); a round bundle would keep height/width 0.93
     assert s["warp section height"] / s["warp section width"] < 0.6
-    # Newton guard (measured 571 iterations, failed attempts counted; 788
-    # with the default contact-loop tolerance in the settling stage)
-    assert solver.counters["newton_iterations"] <= 860
+    # Newton guard (measured 418 iterations, failed attempts counted, with
+    # at most 3 Newton iterations a contact pass; 571 with every pass's solve
+    # run to convergence, 788 with the default contact-loop tolerance in the
+    # settling stage): 1.5 x 418
+    assert solver.counters["newton_iterations"] <= 627
 
 
 def test_bad_weaving_options():
@@ -162,7 +164,10 @@ def test_flat_yarns_weave_the_same_on_two_ranks():
 def test_bundles_weave_the_same_on_two_ranks():
     """The lifting weave of 7-fibre bundles (the main demo's) on all ranks
     ends where the one-rank weave does, through the same steps (issue 20
-    asks 1e-8 of the spacing; measured 7e-16). The 3-fibre weave does not:
+    asks 1e-8 of the spacing; measured 7e-16; with contact passes capped at
+    3 Newton iterations, answers taken from effects set at an unconverged
+    iterate were 3.8e-8 apart: the contact loop accepts only effects set at
+    a converged state). The 3-fibre weave does not:
     its path forks at a contact-loop decision taken on round-off (9e-5 of
     the spacing apart; see the weaving issue's note)."""
     (w1, s1), (wn, sn) = (woven(2, 7, spacing=2.0, free_length=1.0, comm=comm)
@@ -171,7 +176,12 @@ def test_bundles_weave_the_same_on_two_ranks():
         [(h.stage, h.load_factor, h.newton_iterations) for h in sn.history]
     q1, qn = w1.model.nodal_unknowns(), wn.model.nodal_unknowns()
     assert np.abs(q1[:, 0:3] - qn[:, 0:3]).max() < 1e-8 * w1.fabric.spacing[0]
-    # the stability suite's guard on the main demo's Newton counts
+    # issue 20: the relaxation within 20 Newton iterations, all its contact
+    # passes counted (measured 13); the weaving steps' largest count (21 with
+    # at most 3 iterations a contact pass; 46 with each pass's solve run to
+    # convergence; the issue asks 15) and the total are the guard's
+    relaxation = [h.newton_iterations for h in sn.history if h.stage == "relaxation"]
+    assert max(relaxation) <= 20, relaxation
     guard.newton_count("weave_bundles_7_lifting", sn)
 
 

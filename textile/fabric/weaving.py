@@ -132,6 +132,13 @@ class Weaving:
     #: takes about half the passes of the default 1e-3 for the same woven
     #: state (measured: benchmarks/README.md, "Bundles")
     SETTLING_UPDATE_TOLERANCE = 1e-2
+    #: Newton iterations between contact updates in the lifting weave's
+    #: stages (SolverOptions.newton_per_pass): the passes' frozen normals
+    #: are a fixed point that each solve need not settle first; 3 gave the
+    #: fewest iterations on the 3- and 7-fibre weaves, 2 folds an element
+    #: (measured: benchmarks/README.md, "Contact passes with capped Newton
+    #: solves"; tests/weave/test_weaving.py holds the counts)
+    NEWTON_PER_PASS = 3
 
     def __init__(self, fabric: Fabric, steps: int | None = None,
                  relaxation_steps: int = 1, tension: float = 1e-4, contact=None, element=None,
@@ -206,12 +213,13 @@ class Weaving:
         """The weaving stage, then the ordinary-contact relaxation (ordered
         method); lifting, settling, relaxation (lifting method)."""
         if self.method == "lifting":
-            stiffness = self.HEDDLE_STIFFNESS
+            stiffness, passes = self.HEDDLE_STIFFNESS, self.NEWTON_PER_PASS
             return [Stage("lifting", effects={self.contact: weaving_mode(self.fabric,
                                                                          "within_yarns"),
                                               self.heddles: dict(lift=lambda s: s,
                                                                  stiffness=stiffness)},
-                          solver=dict(initial_step=1.0 / self.steps, max_step=1.0 / self.steps)),
+                          solver=dict(initial_step=1.0 / self.steps, max_step=1.0 / self.steps,
+                                      newton_per_pass=passes)),
                     Stage("settling", effects={
                         self.contact: dict(mode="ordinary", make_up_penetrations=True,
                                            update_tolerance=max(self.SETTLING_UPDATE_TOLERANCE,
@@ -219,12 +227,14 @@ class Weaving:
                         self.heddles: dict(lift=1.0,
                                            stiffness=lambda s: stiffness * (1 - s) ** 2)},
                           solver=dict(initial_step=1.0 / self.settling_steps,
-                                      max_step=1.0 / self.settling_steps)),
+                                      max_step=1.0 / self.settling_steps,
+                                      newton_per_pass=passes)),
                     Stage("relaxation", effects={
                         self.heddles: dict(stiffness=0.0),
                         self.contact: dict(update_tolerance=self._update_tolerance)},
                           solver=dict(initial_step=1.0 / self.relaxation_steps,
-                                      max_step=1.0 / self.relaxation_steps))]
+                                      max_step=1.0 / self.relaxation_steps,
+                                      newton_per_pass=passes))]
         return [Stage("weaving", effects={self.contact: weaving_mode(self.fabric)},
                       solver=dict(initial_step=1.0 / self.steps, max_step=1.0 / self.steps)),
                 Stage("relaxation", effects={self.contact: dict(mode="ordinary")},

@@ -1,6 +1,7 @@
 """One load-step attempt: the effects prepare, the predictor, then Newton
 repeated while an effect updates what Newton held fixed (contact elements,
-normals, penalties: loops 1-2 around Newton's loop 3).
+normals, penalties: loops 1-2 around Newton's loop 3); each Newton solve
+runs to convergence, or at most SolverOptions.newton_per_pass iterations.
 
 :class:`ContactLoop` takes the model from its last converged state to a
 load factor t, or reports why not (:class:`textile.solver.Attempt`); it
@@ -85,12 +86,21 @@ class ContactLoop:
             plain.destroy()
         m.apply_constraints(m.x)
         attempt = Attempt(False)
+        # were the effects last updated at a converged state? (the step's
+        # start is one; a capped solve's iterate is not: an answer is taken
+        # only from effects set at a converged state, which keeps it to
+        # round-off on any number of ranks)
+        set_at_converged = True
         for outer in range(1, o.max_updates + 1):
             attempt.updates = outer
             if self.comm.allreduce(m.matrix_stale):
                 # new couplings (contact): a matrix preallocated for them
                 self.newton.set_operators(m.rebuild_matrix())
-            result = self.newton.solve(m.x)
+            # capped solves between effect updates (newton_per_pass) for the
+            # first half of the passes; then (effects that do not settle at
+            # unconverged states: stick-slip flips) to convergence
+            capped = outer <= o.max_updates // 2
+            result = self.newton.solve(m.x, o.newton_per_pass if capped else 0)
             attempt.reason = result.reason
             if result.message:
                 attempt.message = result.message
@@ -101,16 +111,17 @@ class ContactLoop:
                 attempt.reason = PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
                 attempt.message = str(m.domain_error)
                 return attempt
-            if attempt.reason <= 0 or not np.isfinite(m.x.norm()):
+            if (attempt.reason <= 0 and not result.capped) or not np.isfinite(m.x.norm()):
                 return attempt
             changed, error = self.effects_step("update")
             if error:
                 attempt.reason = PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
                 attempt.message = f"updating effects: {error}"
                 return attempt
-            if not changed:
+            if not changed and not result.capped and set_at_converged:
                 attempt.converged = True
                 return attempt
+            set_at_converged = not result.capped
         attempt.reason = DIVERGED_EFFECTS_UNSETTLED
         attempt.message = (f"effects (contact elements, normals, penalties) still changing "
                            f"after {o.max_updates} Newton solves")

@@ -75,6 +75,8 @@ class NewtonResult:
     iterations: int = 0
     residual_norms: list = field(default_factory=list)
     message: str = ""
+    #: stopped unconverged by its iteration cap (Newton.solve's cap), not failed
+    capped: bool = False
 
 
 class Newton:
@@ -103,6 +105,8 @@ class Newton:
         #: the last iterate? (see converged; textile.solver.stability_check)
         self.factor_near = False
         self.cycled = False
+        #: Newton iterations allowed in the current solve (0: max_it; see solve)
+        self.cap = 0
         #: the last residual evaluation, when residual_norm made it (see
         #: _KeptResidual); any other evaluation forgets it
         self._kept_residual = None
@@ -194,7 +198,7 @@ class Newton:
         # step relative to a huge solution must not accept |r| = 1e29)
         if it > 0 and ynorm <= o.stol * xnorm and fnorm <= self._f0:
             return PETSc.SNES.ConvergedReason.CONVERGED_SNORM_RELATIVE
-        if it >= o.max_it:
+        if it >= (min(o.max_it, self.cap) if self.cap else o.max_it):
             return PETSc.SNES.ConvergedReason.DIVERGED_MAX_IT
         if cycling(self._fnorms):
             self.cycled = True  # solve names it (SNES knows no such reason)
@@ -208,12 +212,15 @@ class Newton:
         self._kept_residual = None
         self.snes.setJacobian(self._jacobian, *self.linear.operators(A))
 
-    def solve(self, x: PETSc.Vec) -> NewtonResult:
+    def solve(self, x: PETSc.Vec, cap: int = 0) -> NewtonResult:
         """Newton from x (changed in place) at the model's load factor; a
         failed linear solve is retried with more MUMPS workspace or, after
-        GMRES on a reused or approximate factorization, a fresh one."""
+        GMRES on a reused or approximate factorization, a fresh one.
+        ``cap`` > 0: stop after at most that many iterations (unconverged:
+        ``NewtonResult.capped``; SolverOptions.newton_per_pass)."""
         m, o = self.model, self.options
         result = NewtonResult()
+        self.cap = cap if 0 < cap < o.max_it else 0  # read by _converged
         for retry in range(o.max_it):
             self.counts["newton_solves"] += 1
             self.cycled = False
@@ -243,6 +250,8 @@ class Newton:
             # go on from this iterate with a fresh, exact one
             self.counts["linear_solve_retries"] += 1
             self.linear.force_refactorization()
+        result.capped = bool(self.cap) and \
+            result.reason == PETSc.SNES.ConvergedReason.DIVERGED_MAX_IT
         return result
 
     def residual_norm(self, x: PETSc.Vec) -> float:

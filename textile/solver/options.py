@@ -73,6 +73,18 @@ class SolverOptions(Options):
         Newton solves per step while effects update what Newton holds fixed
         (contact elements, normals, penalties); a step still changing after
         that many is cut.
+    newton_per_pass:
+        0 (default): each of those Newton solves runs to convergence before
+        the effects update. n > 0: the effects update after at most n Newton
+        iterations (the contact passes' frozen normals and elements are a
+        fixed point that the solve in between need not settle first); Newton
+        then goes on from there. A step is accepted, as with 0, only when a
+        solve has converged and no effect changed after it, so the answer
+        meets the same tolerances. Only the first half of the max_updates
+        solves are capped (effects that flip at unconverged states, such as
+        stick and slip, settle once the solves converge). The lifting weave of bundles uses 3
+        (:class:`textile.fabric.Weaving`; benchmarks/README.md, "Contact
+        passes with capped Newton solves").
     newton:
         "mip" (default; mixed integration point Newton: the beams' geometric
         stiffness uses the stress extrapolated linearly from the previous
@@ -144,6 +156,7 @@ class SolverOptions(Options):
     newton: str = "mip"
     predictor: str = "auto"
     max_updates: int = 20
+    newton_per_pass: int = 0
     linear_solver: str = "mumps"
     factorization: str = "auto"
     reuse_factorization: int = 1
@@ -178,6 +191,10 @@ class SolverOptions(Options):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or v < 1:
                 raise ValueError(f"SolverOptions.{name} must be a positive integer, got {v!r}")
+        v = self.newton_per_pass
+        if isinstance(v, bool) or not isinstance(v, int) or v < 0:
+            raise ValueError(f"SolverOptions.newton_per_pass must be a non-negative integer, "
+                             f"got {v!r}")
         for name in ("branch_switching", "verbose"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"SolverOptions.{name} must be True or False, "

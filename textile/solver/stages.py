@@ -17,8 +17,8 @@ from .stepping import Stepping
 
 #: options a stage may change (the linear solver is set once)
 STAGE_OPTIONS = {"initial_step", "min_step", "max_step", "grow", "cut", "easy_iterations",
-                 "max_it", "max_updates", "newton", "predictor", "branch_switching",
-                 "branch_amplitudes", "verbose"}
+                 "max_it", "max_updates", "newton_per_pass", "newton", "predictor",
+                 "branch_switching", "branch_amplitudes", "verbose"}
 
 
 class Stages(Stepping):
