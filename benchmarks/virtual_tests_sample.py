@@ -22,17 +22,18 @@ later keeps what it did; tests not run again keep their earlier entry).
         [--solver '{"low_rank_tolerance": 1e-8}']
 
 Run the composite tests one per invocation on the 336-fibre sample: each
-holds about 7 GB a rank, and a second test in the same process starts
+holds 7-12 GB a rank (benchmarks/README.md), and a second test in the same process starts
 before the first one's scene is freed (the twisting after the bending was
-killed for memory at 12.5 GB on rank 0, 2026-12-01). The twisting's figures
-of benchmarks/README.md were measured with the stability check off
-(``--solver '{"low_rank_tolerance": 1e-8, "stability_check": "off"}'``):
-with it on, a new negative pivot at step 13 of an earlier run most likely
-set off its SLEPc confirmation on the 467 127-unknown tangent (a copy of
-the matrix and a full-rank LDL^T: both ranks grew by 3.5 GB, no answer
-after 33 minutes). That confirmation is gone (issue 22): the check now
-only reuses the Newton factorization (benchmarks/README.md, "Stability
-check"); the twisting has not been rerun with it on.
+killed for memory at 12.5 GB on rank 0, 2026-12-01). The stability check
+is on in every test (its default): it reads the inertia of the Newton
+factorization, factorizes the tangent at the solution where Newton's last
+factorization was not at it, and switches branch along the critical mode
+when a step loses stability. Each step's record carries its counters
+(factorizations, the check's own seconds, branch switching's seconds and
+attempts) and the check's findings (negative eigenvalues; for a branch
+switch the critical mode, checked with the assembled tangent):
+benchmarks/README.md, "Twisting of the 336-fibre composite with the
+stability check on".
 """
 from __future__ import annotations
 
