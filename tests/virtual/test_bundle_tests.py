@@ -105,7 +105,9 @@ def test_a_shear_test_settles(woven):
     solver = textile.Solver(test.sample.model, QUIET)
     solver.run([test.first_stage()])
     assert solver.history[-1].load_factor == 1.0
-    # measured: 4 steps (the first, of 1, is cut to 1/4) of 10 to 17 Newton
-    # iterations (all contact passes)
+    # measured: 2 steps of 12 and 29 Newton iterations (all contact passes;
+    # from the woven state of the lifting weave's capped contact passes;
+    # before, 4 steps of 10 to 17): 1.5 x the largest and the total
     assert len(solver.history) <= 8
-    assert max(h.newton_iterations for h in solver.history) <= 25
+    assert max(h.newton_iterations for h in solver.history) <= 44
+    assert sum(h.newton_iterations for h in solver.history) <= 62
