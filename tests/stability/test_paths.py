@@ -4,6 +4,7 @@ Cases 2 and 3 of the stability issue: load control past a bifurcation used
 to stay on the unstable straight branch without a word, and limit points
 were not named.
 """
+import time
 import warnings
 
 import numpy as np
@@ -80,6 +81,43 @@ def test_unstable_branch_is_reported(out, dt, slenderness):
     assert solver.counters["zero_motion_seconds"] > 0
     assert solver.counters["factorizations"] == solver.counters["jacobian_evaluations"]
     guard.newton_count(case("unstable_branch_reported", dt, slenderness), solver)
+
+
+def test_an_instability_is_described_without_switching(out, monkeypatch):
+    """Branch switching off, describe_instability on: the step that loses
+    stability records its critical mode (what the 336-fibre composite
+    twisting reports, where a switch costs too much), the path stays
+    straight, and the eigen-solve is not counted as the check's own time."""
+    from textile.solver import stability_check
+
+    def slow_critical_modes(*args):
+        time.sleep(0.3)
+        return critical_modes(*args)
+
+    critical_modes = stability_check.critical_modes
+    monkeypatch.setattr(stability_check, "critical_modes", slow_critical_modes)
+    fib, model = column(slenderness=2000)
+    solver = textile.Solver(model, dict(initial_step=0.25, max_step=0.25, verbose=False,
+                                        branch_switching=False, describe_instability=True),
+                            output=textile.Output(out, pictures=False))
+    with pytest.warns(StabilityWarning, match="stability lost"):
+        solver.solve()
+    data = guard.clean_output(out, solver)
+    described = [s for s in data["steps"] if "critical_mode" in s]
+    # once, at the first unstable step (t = 0.75 > 1/1.6), not at later ones
+    assert [s["load_factor"] for s in described] == [0.75]
+    mode = described[0]["critical_mode"]
+    # the factorization's eigenpair is the assembled tangent's (measured to
+    # 1e-7 relative in the switching test: the eigen-solve's tolerance)
+    assert mode["eigenvalue"] < 0
+    assert mode["rayleigh_with_the_matrix"] == pytest.approx(mode["eigenvalue"], rel=1e-5)
+    assert mode["mode_share"]["positions"] + mode["mode_share"]["sections"] == pytest.approx(1)
+    assert "moved" not in mode and abs(model.centreline(fib)[-1, 2]) < 1e-3 * L
+    c = solver.counters
+    assert c["eigen_solves"] == 1 and c["branch_switches"] == c["branch_attempts"] == 0
+    # the check's own time (inertia, zero-motion search: milliseconds here)
+    # excludes the eigen-solve, slowed by 0.3 s to tell them apart
+    assert c["eigen_solve_seconds"] >= 0.3 > c["stability_check_seconds"] > 0
 
 
 @pytest.mark.parametrize("slenderness", SLENDERNESS)

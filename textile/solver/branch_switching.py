@@ -56,18 +56,9 @@ class BranchSwitching:
         self.check.log(f"  t={t:.6g}: unstable ({found.negative} negative eigenvalue(s)): "
                        f"branch switching along the critical modes (SLEPc)")
         try:
-            values, modes = self.check.critical_modes(found.negative - before,
-                                                      [z.vector for z in found.motions or []])
+            values, modes = self.describe(t, found, before)
             if not modes:
                 return None
-            # what the critical mode is made of (the share of each group of
-            # unknowns in its norm): a mode on the multipliers alone is a
-            # redundant constraint, not an instability
-            groups = self.model.residual_groups
-            norms = groups.norms(modes[0].getArray(readonly=True))
-            self.found = dict(eigenvalue=float(values[0]), mode_share={
-                n: float(v ** 2) for n, v in zip(groups.names, norms)},
-                **self.with_the_matrix(modes[0]))
             f = self.check.load_pattern(t)
             d = modes[0].duplicate()
             d.set(0.0)
@@ -80,6 +71,29 @@ class BranchSwitching:
         finally:
             self.counts["branch_switches"] += 1
             self.counts["branch_switch_seconds"] += time.perf_counter() - t0
+
+    def describe(self, t: float, found: Inertia, before: int):
+        """The critical modes of the unstable state (SLEPc, on the Newton
+        factorization) and, in ``self.found`` and the log, what the first
+        one is: its eigenvalue, the share of each group of unknowns in its
+        norm (a mode on the multipliers alone is a redundant constraint, not
+        an instability) and its check with the assembled tangent. Returns
+        (eigenvalues, modes)."""
+        self.found = {}
+        values, modes = self.check.critical_modes(found.negative - before,
+                                                  [z.vector for z in found.motions or []])
+        if not modes:
+            return values, modes
+        groups = self.model.residual_groups
+        norms = groups.norms(modes[0].getArray(readonly=True))
+        self.found = dict(eigenvalue=float(values[0]), mode_share={
+            n: float(v ** 2) for n, v in zip(groups.names, norms)},
+            **self.with_the_matrix(modes[0]))
+        shares = ", ".join(f"{n} {v:.3g}" for n, v in self.found["mode_share"].items() if v > 1e-3)
+        self.check.log(f"    critical mode at t={t:.6g}: eigenvalue {values[0]:.4g} "
+                       f"(v.Kv with the assembled tangent "
+                       f"{self.found['rayleigh_with_the_matrix']:.4g}); share: {shares}")
+        return values, modes
 
     def with_the_matrix(self, mode: PETSc.Vec) -> dict:
         """The critical mode (unit norm) checked with the assembled tangent K

@@ -137,6 +137,12 @@ class SolverOptions(Options):
         (fractions of the longest fibre) and both signs. On by default: an
         unstable equilibrium is a wrong answer for a fabric; False keeps the
         unstable path (recorded and warned about).
+    describe_instability:
+        With branch switching off: where a step loses stability, compute its
+        critical mode all the same (one SLEPc eigen-solve on the Newton
+        factorization) and record what it is (``critical_mode``: eigenvalue,
+        share of each group of unknowns, checked with the assembled tangent),
+        to tell a physical instability from a numerical one.
     verbose:
         Print one progress line per step on rank 0.
     """
@@ -167,6 +173,7 @@ class SolverOptions(Options):
     stability_check: str = "auto"
     branch_switching: bool = True
     branch_amplitudes: tuple = (0.01, 0.05, 0.2, 0.5, 1.0)
+    describe_instability: bool = False
     verbose: bool = True
 
     kind = "solver"
@@ -195,7 +202,7 @@ class SolverOptions(Options):
         if isinstance(v, bool) or not isinstance(v, int) or v < 0:
             raise ValueError(f"SolverOptions.newton_per_pass must be a non-negative integer, "
                              f"got {v!r}")
-        for name in ("branch_switching", "verbose"):
+        for name in ("branch_switching", "describe_instability", "verbose"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"SolverOptions.{name} must be True or False, "
                                  f"got {getattr(self, name)!r}")
