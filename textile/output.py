@@ -198,6 +198,9 @@ class Output:
                               final_residual=record.residual_norms[-1] if record.residual_norms
                               else 0.0,
                               energy=record.energy, updates=record.updates,
+                              # (Newton iterations, change); null: new contact forces
+                              contact_passes=[[n, c if np.isfinite(c) else None]
+                                              for n, c in record.passes],
                               most_loaded_fibres=top_fibres(loads, TOP_FIBRES),
                               **{f"residual_{k}": v for k, v in record.residuals.items()},
                               **record.stability,

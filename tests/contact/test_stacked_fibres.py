@@ -27,6 +27,7 @@ a property of the gap a contact element gives Newton
 Past 70% the frictionless triangles turn unstable (a fibre on two others
 rolls off as they spread: a negative eigenvalue, measured at 77%).
 """
+import pytest
 from mpi4py import MPI
 
 import textile
@@ -55,6 +56,30 @@ def test_stacked_yarns_settle_within_each_step():
     assert max(s.newton_iterations for s in steps) <= 36
     assert solver.counters["failed_attempts"] <= 1
     assert all(s.effects["crossed_contacts"] == 0 for s in steps)
+    # each step records its passes: Newton iterations and the contact
+    # forces' change after each, in units of the loop's tolerance: every
+    # pass but the last changed them by more than it, the last did not
+    for s in steps:
+        assert len(s.passes) == s.updates
+        assert sum(n for n, _ in s.passes) == s.newton_iterations
+        assert all(c > 1 for _, c in s.passes[:-1]) and s.passes[-1][1] <= 1, s.passes
+
+
+def test_an_unsettled_contact_loop_names_its_changes():
+    """A step whose contact forces still change after the allowed passes
+    fails with DIVERGED_EFFECTS_UNSETTLED and says by how much they changed
+    (here one pass allowed where the first step needs two or three)."""
+    yarn = Yarn(3, R, MAT, packing="hexagonal", friction=0.0)
+    fab = Fabric(yarn, num_warp=2, num_weft=2, spacing=2.0 * yarn.width, pattern="plain",
+                 elements_per_crossing=4, free_length=yarn.width)
+    w = Weaving(fab, comm=MPI.COMM_SELF, method="ordered")
+    solver = textile.Solver(w.model, dict(verbose=False, max_updates=1))
+    weaving, _ = w.stages()
+    weaving.solver.update(initial_step=0.1, min_step=0.05)
+    with pytest.raises(textile.ConvergenceError,
+                       match=r"DIVERGED_EFFECTS_UNSETTLED.*the last changes, in units of "
+                             r"their tolerance: [0-9.e+]+\)"):
+        solver.run_stage(weaving, t_end=0.1)
 
 
 def test_capped_newton_solves_between_contact_passes_reach_the_same_state():

@@ -163,6 +163,14 @@ class Effect:
         True if it changed enough that Newton must run again."""
         return False
 
+    def update_change(self) -> float:
+        """How much the last ``update`` changed what it acts on, in units of
+        the effect's own tolerance for it (> 1: ``update`` said changed;
+        the same on every rank): the contact loop records it per pass and
+        names it when the loop does not settle. 0 for an effect that holds
+        nothing fixed."""
+        return 0.0
+
     def commit(self, model) -> None:
         """The step is accepted: move history forward (e.g. stick points)."""
 

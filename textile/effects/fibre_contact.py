@@ -456,6 +456,7 @@ class FibreContact(Effect):
         self.penalty_conversions = 0
         self.held_contacts = 0
         self._newton_pending = False  # a Newton solve follows (prepare, or update True)
+        self._change = 0.0  # the last update's (update_change)
         self._check_order()
 
     # -- detection and history -----------------------------------------------
@@ -533,7 +534,11 @@ class FibreContact(Effect):
         after = new.nodal_forces(q)
         diff = comm.allreduce(float(np.sum((after - before) ** 2)))
         size = comm.allreduce(float(np.sum(before ** 2)))
-        return diff > o.update_tolerance ** 2 * max(size, 1e-300) or (size == 0 and diff > 0)
+        # the change relative to the forces, in units of the tolerance
+        # (contacts appearing where there was no force: infinitely large)
+        self._change = (math.sqrt(diff / size) / o.update_tolerance if size > 0 else
+                        (math.inf if diff > 0 else 0.0))
+        return self._change > 1.0
 
     def _depth_scale(self) -> float:
         """1 - s during the weaving stage and a stage that makes up its
@@ -670,10 +675,18 @@ class FibreContact(Effect):
         emergency = self._retune(in_step=True)
         self.emergency_retunes += emergency
         changed = self._rebuild(q, persist=True) or emergency > 0
+        if emergency and not self._change > 1.0:
+            self._change = math.inf  # penalties retuned: Newton must run again
         # another Newton solve follows only if something changed (not, e.g.,
         # the stability check's factorization at the converged state)
         self._newton_pending = changed
         return changed
+
+    def update_change(self) -> float:
+        """The contact forces' change at the last update relative to their
+        size, in units of ``update_tolerance`` (inf: new contact forces, or
+        penalties retuned)."""
+        return self._change
 
     def commit(self, model) -> None:
         self._reset_normals = False

@@ -118,11 +118,15 @@ class ContactLoop:
                 attempt.reason = PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
                 attempt.message = f"updating effects: {error}"
                 return attempt
+            attempt.passes.append((result.iterations,
+                                   max((e.update_change() for e in m.effects), default=0.0)))
             if not changed and not result.capped and set_at_converged:
                 attempt.converged = True
                 return attempt
             set_at_converged = not result.capped
         attempt.reason = DIVERGED_EFFECTS_UNSETTLED
+        changes = ", ".join(f"{c:.3g}" for _, c in attempt.passes[-5:])
         attempt.message = (f"effects (contact elements, normals, penalties) still changing "
-                           f"after {o.max_updates} Newton solves")
+                           f"after {o.max_updates} Newton solves (the last changes, in units "
+                           f"of their tolerance: {changes})")
         return attempt

@@ -236,6 +236,9 @@ class StepRecord:
     #: the stage's load factor: continuous over stages)
     stage: str = "load"
     time: float = 0.0
+    #: per contact pass of the converged attempt: (Newton iterations, the
+    #: largest effect change after it in units of its tolerance)
+    passes: list = field(default_factory=list)
 
     @property
     def reason(self) -> str:
@@ -253,6 +256,9 @@ class Attempt:
     reason: int = 0
     updates: int = 0
     message: str = ""
+    #: per contact pass: (its Newton iterations, the largest effect change
+    #: after it in units of the effect's tolerance; Effect.update_change)
+    passes: list = field(default_factory=list)
 
     def describe(self) -> str:
         text = f"{reason_name(self.reason)} after {self.iterations} Newton iterations"

@@ -178,7 +178,7 @@ class Stepping:
                              attempt.reason, self.comm.allreduce(m.beam.energy),
                              attempt.updates, stats,
                              m.residual_groups.as_dict(m.residual_norms), stability,
-                             self.stage.name, self.stage_index + t)
+                             self.stage.name, self.stage_index + t, attempt.passes)
             self.history.append(rec)
             self.counts["accepted_steps"] += 1
             # petsc4py keeps dropped parallel objects (old vectors, a
