@@ -272,6 +272,7 @@ void declare_contact(py::module_& m)
 
   py::class_<CouplingPattern>(m, "CouplingPattern")
       .def(py::init<>())
+      .def("copy", [](const CouplingPattern& self) { return CouplingPattern(self); })
       .def("covers", &CouplingPattern::covers, py::arg("set"), py::arg("margin"))
       .def("add", &CouplingPattern::add, py::arg("set"), py::arg("margin"))
       .def("insert",

@@ -443,6 +443,7 @@ class FibreContact(Effect):
         # first pass always rebuilds the matrix (the base one refuses new
         # entries), later ones only for new couplings
         self.coverage = _cpp.CouplingPattern()
+        self._committed_coverage = self.coverage.copy()
         self._matrix_has_contact = False
         # elements farther apart than this are left out of the matrix
         # pattern (they cannot close within one Newton solve)
@@ -696,10 +697,16 @@ class FibreContact(Effect):
             self._make_up, self._make_up_reference = False, None   # made up
         self.set.commit()
         self._committed = self.set.copy()
+        self._committed_coverage = self.coverage.copy()
         self._statistics(model)
 
     def restore(self, model) -> None:
         self._replace_set(self._committed.copy())
+        if self.coverage.size != self._committed_coverage.size:
+            # couplings of a failed attempt's iterates (far from any
+            # solution, often many): a matrix without them factorizes faster
+            self.coverage = self._committed_coverage.copy()
+            model.request_matrix_rebuild()
 
     # -- assembly --------------------------------------------------------------
     def residual_global(self, state: State, b) -> bool:
@@ -707,6 +714,12 @@ class FibreContact(Effect):
         self.set.set_depth_scale(self._depth_scale())  # the load factor of this evaluation
         # constrained rows too: the model reads them as support reactions
         self.set.assemble_vector(q, self.model.beam_global_dofs(state, constrained=True), b)
+        # an element closing, within Newton, on fibre elements the matrix
+        # has no room for: Newton rebuilds the matrix before its tangent
+        # (Newton._converged), PETSc does not reallocate entry by entry
+        if self._matrix_has_contact and not self.coverage.covers(self.set, self.pattern_margin):
+            self.coverage.add(self.set, self.pattern_margin)
+            self.model.request_matrix_rebuild()
         return True
 
     def jacobian(self, state: State, A) -> None:
@@ -812,6 +825,7 @@ class FibreContact(Effect):
         self.set.evaluate(q)  # results at the loaded state, as after a commit
         self._committed = self.set.copy()
         self.coverage = _cpp.CouplingPattern()
+        self._committed_coverage = self.coverage.copy()
         self._matrix_has_contact = False
 
     def reset_friction(self, model) -> np.ndarray | None:

@@ -116,3 +116,26 @@ class GroupTolerances:
             if f is not None:
                 ok = norms <= np.maximum(limit, self.floor_factor * EPS * f)
         return ok
+
+
+#: A Newton solve whose residual norm repeats itself with a period of 1 to
+#: CYCLE_PERIOD iterations (each of the last max(CYCLE_ITERATIONS, 2 period)
+#: values within CYCLE_TOLERANCE of the one a period before) is cycling
+#: (stick-slip or contact switches flipping in turn) or stuck: it would not
+#: converge within max_it, so the attempt fails at once and the step is cut.
+#: A residual falling by 5% a period needs 45 periods per decade: none of
+#: that converges anyway.
+CYCLE_ITERATIONS, CYCLE_PERIOD, CYCLE_TOLERANCE = 6, 4, 0.05
+
+
+def cycling(norms: list[float]) -> bool:
+    """Does this Newton residual history (norm per iteration) cycle?"""
+    for period in range(1, CYCLE_PERIOD + 1):
+        n = max(CYCLE_ITERATIONS, 2 * period)
+        if len(norms) < n + period + 2:  # the first two iterations never count
+            continue
+        h = norms[-n - period:]
+        if all(abs(a - b) <= CYCLE_TOLERANCE * max(a, b)
+               for a, b in zip(h[period:], h[:-period])):
+            return True
+    return False

@@ -17,31 +17,10 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from .convergence import GroupTolerances
+from .convergence import (CYCLE_ITERATIONS, CYCLE_PERIOD, CYCLE_TOLERANCE,  # noqa: F401
+                          GroupTolerances, cycling)
 from .linear_solver import LinearSolver
 from .options import DIVERGED_NEWTON_CYCLE, SolverOptions, say
-
-#: A Newton solve whose residual norm repeats itself with a period of 1 to
-#: CYCLE_PERIOD iterations (each of the last max(CYCLE_ITERATIONS, 2 period)
-#: values within CYCLE_TOLERANCE of the one a period before) is cycling
-#: (stick-slip or contact switches flipping in turn) or stuck: it would not
-#: converge within max_it, so the attempt fails at once and the step is cut.
-#: A residual falling by 5% a period needs 45 periods per decade: none of
-#: that converges anyway.
-CYCLE_ITERATIONS, CYCLE_PERIOD, CYCLE_TOLERANCE = 6, 4, 0.05
-
-
-def cycling(norms: list[float]) -> bool:
-    """Does this Newton residual history (norm per iteration) cycle?"""
-    for period in range(1, CYCLE_PERIOD + 1):
-        n = max(CYCLE_ITERATIONS, 2 * period)
-        if len(norms) < n + period + 2:  # the first two iterations never count
-            continue
-        h = norms[-n - period:]
-        if all(abs(a - b) <= CYCLE_TOLERANCE * max(a, b)
-               for a, b in zip(h[period:], h[:-period])):
-            return True
-    return False
 
 
 def _forget_options(prefix: str) -> None:
@@ -60,11 +39,10 @@ def new_counts() -> dict:
     """The counters a solver keeps itself (the rest: PETSc's event log)."""
     return dict(newton_solves=0, newton_iterations=0, failed_attempts=0,
                 accepted_steps=0, residual_evaluations=0, jacobian_evaluations=0,
-                linear_solve_retries=0, eigen_solves=0, eigen_solve_seconds=0.0,
-                zero_motion_searches=0, zero_motion_seconds=0.0, stability_checks=0,
-                stability_check_seconds=0.0, branch_switches=0, branch_attempts=0,
-                branch_switch_seconds=0.0,
-                factorizations_at_solution=0)
+                linear_solve_retries=0, matrix_rebuilds_in_newton=0, eigen_solves=0,
+                eigen_solve_seconds=0.0, zero_motion_searches=0, zero_motion_seconds=0.0,
+                stability_checks=0, stability_check_seconds=0.0, branch_switches=0,
+                branch_attempts=0, branch_switch_seconds=0.0, factorizations_at_solution=0)
 
 
 @dataclass
@@ -105,6 +83,9 @@ class Newton:
         #: the last iterate? (see converged; textile.solver.stability_check)
         self.factor_near = False
         self.cycled = False
+        #: did the solve stop because the matrix has no room for the
+        #: iterate's couplings (model.matrix_stale, see _converged)?
+        self.outgrown = False
         #: Newton iterations allowed in the current solve (0: max_it; see solve)
         self.cap = 0
         #: the last residual evaluation, when residual_norm made it (see
@@ -200,6 +181,13 @@ class Newton:
             return PETSc.SNES.ConvergedReason.CONVERGED_SNORM_RELATIVE
         if it >= (min(o.max_it, self.cap) if self.cap else o.max_it):
             return PETSc.SNES.ConvergedReason.DIVERGED_MAX_IT
+        if self.comm.allreduce(m.matrix_stale, op=MPI.LOR):
+            # the iterate couples unknowns the matrix has no room for (a
+            # contact closing on new fibre elements): PETSc would reallocate
+            # the matrix entry by entry, seconds on a fabric; solve goes on
+            # from this iterate with a rebuilt matrix instead
+            self.outgrown = True
+            return PETSc.SNES.ConvergedReason.DIVERGED_MAX_IT
         if cycling(self._fnorms):
             self.cycled = True  # solve names it (SNES knows no such reason)
             return PETSc.SNES.ConvergedReason.DIVERGED_DTOL
@@ -220,10 +208,13 @@ class Newton:
         ``NewtonResult.capped``; SolverOptions.newton_per_pass)."""
         m, o = self.model, self.options
         result = NewtonResult()
-        self.cap = cap if 0 < cap < o.max_it else 0  # read by _converged
+        capped = 0 < cap < o.max_it
+        budget = cap if capped else o.max_it
+        spent = 0  # by SNES solves stopped for a matrix rebuild
         for retry in range(o.max_it):
             self.counts["newton_solves"] += 1
-            self.cycled = False
+            self.cycled = self.outgrown = False
+            self.cap = budget - spent if capped or spent else 0  # read by _converged
             self.snes.solve(None, x)
             result.reason = self.snes.getConvergedReason()
             if self.cycled:
@@ -235,6 +226,11 @@ class Newton:
             result.iterations += its
             result.residual_norms += [float(r) for r in
                                       self.snes.getConvergenceHistory()[0][: its + 1]]
+            if self.outgrown and spent + its < budget:
+                spent += its
+                self.counts["matrix_rebuilds_in_newton"] += 1
+                self.set_operators(m.rebuild_matrix())
+                continue
             if not (result.reason == PETSc.SNES.ConvergedReason.DIVERGED_LINEAR_SOLVE
                     and m.domain_error is None):
                 break
@@ -250,7 +246,7 @@ class Newton:
             # go on from this iterate with a fresh, exact one
             self.counts["linear_solve_retries"] += 1
             self.linear.force_refactorization()
-        result.capped = bool(self.cap) and \
+        result.capped = capped and \
             result.reason == PETSc.SNES.ConvergedReason.DIVERGED_MAX_IT
         return result
 
