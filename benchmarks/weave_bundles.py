@@ -15,6 +15,7 @@ the largest penetration, the crimp, the sections' height over width and the
 wall time (benchmarks/README.md, "Bundles").
 
     .venv/bin/python benchmarks/weave_bundles.py --method lifting [--fibres 3 7]
+        [--twist 0.016667 --drag 0.1 --newton-per-pass 0]
     .venv/bin/python benchmarks/weave_bundles.py [--fibres 3 7] [--spacing 2]
         [--easy 4 12] [--drag 0 1] [--relax]
 """
@@ -39,12 +40,17 @@ MAT = textile.Material(5.0e9, 0.35)
 
 def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm,
           relaxation_steps: int = 1, make_up: bool = False, method: str = "ordered",
-          free_length: float = 0.5) -> dict:
-    yarn = Yarn(fibres, R, MAT, packing="hexagonal")
-    fabric = Fabric(yarn, num_warp=2, num_weft=2, spacing=spacing * yarn.width,
+          free_length: float = 0.5, twist: float = 0.0, newton_per_pass=None) -> dict:
+    # a twisted yarn's fibres lie on helices: a clearance keeps neighbours apart
+    yarn = Yarn(fibres, R, MAT, packing="hexagonal", twist=twist / R,
+                **({"clearance": 0.1} if twist else {}))
+    across = yarn.diameter if twist else yarn.width
+    fabric = Fabric(yarn, num_warp=2, num_weft=2, spacing=spacing * across,
                     pattern="plain", elements_per_crossing=4,
-                    free_length=free_length * spacing * yarn.width)
-    weaving = Weaving(fabric, comm=comm, relaxation_steps=relaxation_steps, method=method)
+                    free_length=free_length * spacing * across)
+    weaving = Weaving(fabric, comm=comm, relaxation_steps=relaxation_steps, method=method,
+                      **(dict(drag=drag, newton_per_pass=newton_per_pass)
+                         if method == "lifting" else {}))
     stages = weaving.stages()
     if method == "lifting":
         t0 = time.perf_counter()
@@ -55,7 +61,8 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
         except textile.ConvergenceError as e:
             error = str(e)
         return _row(weaving, solver, error, time.perf_counter() - t0,
-                    dict(fibres=fibres, spacing=spacing, method=method, free_length=free_length))
+                    dict(fibres=fibres, spacing=spacing, method=method, free_length=free_length,
+                         drag=drag, twist=twist, newton_per_pass=weaving.newton_per_pass))
     stages[0].solver.update(easy_iterations=easy)
     if make_up:
         stages[1].effects[weaving.contact]["make_up_penetrations"] = True
@@ -99,25 +106,33 @@ def main():
     p.add_argument("--fibres", type=int, nargs="+", default=[3, 7])
     p.add_argument("--spacing", type=float, default=2.0)
     p.add_argument("--easy", type=int, nargs="+", default=[4, 12])
-    p.add_argument("--drag", type=float, nargs="+", default=[0.0, 1.0])
+    p.add_argument("--drag", type=float, nargs="+", default=None,
+                   help="drag coefficients (default 0 and 1 ordered, 0 lifting)")
     p.add_argument("--relax", action="store_true", help="run the relaxation stage too")
     p.add_argument("--relaxation-steps", type=int, default=1)
     p.add_argument("--make-up", action="store_true",
                    help="the relaxation makes up the penetrations it starts with")
     p.add_argument("--method", choices=("ordered", "lifting"), default="ordered",
                    help="ordered contact (the paper's) or lifting (heddles); lifting ignores "
-                        "--easy, --drag, --relax and --make-up (it runs all its stages)")
+                        "--easy, --relax and --make-up (it runs all its stages) and takes "
+                        "--drag as Weaving's drag (default 0 there)")
+    p.add_argument("--newton-per-pass", type=int, default=None,
+                   help="lifting: Weaving's newton_per_pass (default its NEWTON_PER_PASS)")
+    p.add_argument("--twist", type=float, default=0.0,
+                   help="yarn twist, turns per fibre radius (e.g. 0.016667: a turn per 60 R)")
     p.add_argument("--free-length", type=float, default=None,
                    help="yarn tails beyond the outer crossings, in spacings (default 0.5, "
                         "1.0 for lifting)")
     args = p.parse_args()
     free = args.free_length or (1.0 if args.method == "lifting" else 0.5)
     rows = []
-    cases = itertools.product(args.fibres, args.easy, args.drag) if args.method == "ordered" \
-        else ((f, 0, 0.0) for f in args.fibres)
+    drags = args.drag or ([0.0, 1.0] if args.method == "ordered" else [0.0])
+    cases = itertools.product(args.fibres, [0] if args.method == "lifting" else args.easy,
+                              drags)
     for fibres, easy, drag in cases:
         row = weave(fibres, args.spacing, easy, drag, args.relax, MPI.COMM_SELF,
-                    args.relaxation_steps, args.make_up, args.method, free)
+                    args.relaxation_steps, args.make_up, args.method, free, args.twist,
+                    args.newton_per_pass)
         rows.append(row)
         print(f"{fibres} fibres, {args.method}, easy_iterations {easy}, drag {drag:g}: "
               f"{row['stage']} s={row['load_factor']:.3f}, "

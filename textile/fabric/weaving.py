@@ -38,6 +38,7 @@ from . import measures
 from .. import presets
 from ..effects.fibre_contact import FibreContact
 from ..effects.heddles import Heddles
+from ..effects.viscous_drag import ViscousDrag
 from ..effects.weaving_contact import weaving_mode
 from .fabric import Fabric
 from ..io import fabric_labels
@@ -90,6 +91,22 @@ class Weaving:
         other at the crossing's middle by 0.1 of that height; fibres off
         the middle, where the yarns slope, may still overlap a little, and
         the settling stage makes that up progressively).
+    drag:
+        Lifting: the coefficient of a
+        :class:`~textile.effects.ViscousDrag` (pseudo-time) through the
+        settling stage, faded out as (1 - s)^2 over a ``fading`` stage
+        (``FADING_STEPS`` steps, the heddles gone) before the relaxation,
+        which has none: the woven state is the structure's own equilibrium.
+        A path through the instabilities where the heddles let go, where
+        the contact loop otherwise alternates between two sets (twisted
+        bundles). 0 (default): no drag, three stages.
+    newton_per_pass:
+        Lifting: Newton iterations between contact updates in its stages
+        (``SolverOptions.newton_per_pass``; 0: each Newton solve to
+        convergence). Default: ``NEWTON_PER_PASS``, 0 with ``drag`` (with
+        capped solves the fading stage folds elements on the 3-fibre and
+        the twisted 7-fibre weaves: benchmarks/README.md, "Twisted
+        bundles").
     preset:
         Accuracy preset (:mod:`textile.presets`: "draft", "standard" (None),
         "fine"): ``steps``, ``contact``, ``element`` and :meth:`run`'s solver
@@ -112,6 +129,9 @@ class Weaving:
        pressed by their tensions.
     3. ``relaxation`` (``relaxation_steps``): ordinary contact, no heddles:
        the woven state.
+
+    With ``drag`` > 0 a ``fading`` stage, between settling and relaxation,
+    takes the drag away.
 
     Its yarns never interpenetrate once lifted, so ordinary contact never
     meets a hidden overlap; the ordered weave measures gaps along the
@@ -139,10 +159,15 @@ class Weaving:
     #: (measured: benchmarks/README.md, "Contact passes with capped Newton
     #: solves"; tests/weave/test_weaving.py holds the counts)
     NEWTON_PER_PASS = 3
+    #: load steps of the stage that fades the drag out (``drag`` > 0): the
+    #: twisted 7-fibre weave's (1 - s)^2 fade took 40-75 Newton iterations
+    #: a step at first with 4 (benchmarks/README.md, "Twisted bundles")
+    FADING_STEPS = 4
 
     def __init__(self, fabric: Fabric, steps: int | None = None,
                  relaxation_steps: int = 1, tension: float = 1e-4, contact=None, element=None,
                  method: str | None = None, settling_steps: int = 16, amplitude: float = 0.55,
+                 drag: float = 0.0, newton_per_pass: int | None = None,
                  preset: str | None = None, comm=MPI.COMM_WORLD):
         if not isinstance(fabric, Fabric):
             raise TypeError(f"Weaving: fabric must be a textile.fabric.Fabric, got "
@@ -170,8 +195,22 @@ class Weaving:
         if isinstance(tension, bool) or not isinstance(tension, numbers.Real) \
                 or not math.isfinite(tension) or tension <= 0 or tension >= 0.1:
             raise ValueError(f"Weaving: tension is an axial strain, in (0, 0.1); got {tension!r}")
+        if isinstance(drag, bool) or not isinstance(drag, numbers.Real) \
+                or not math.isfinite(drag) or drag < 0:
+            raise ValueError(f"Weaving: drag is a coefficient >= 0, got {drag!r}")
+        if drag > 0 and method != "lifting":
+            raise ValueError("Weaving: drag belongs to the lifting weave (its settling stage); "
+                             f"this weave's method is {method!r}")
         self.fabric = fabric
         self.tension = float(tension)
+        self.drag = float(drag)
+        if newton_per_pass is None:
+            newton_per_pass = 0 if self.drag > 0 else self.NEWTON_PER_PASS
+        if isinstance(newton_per_pass, bool) or not isinstance(newton_per_pass, numbers.Integral) \
+                or newton_per_pass < 0:
+            raise ValueError(f"Weaving: newton_per_pass is an integer >= 0 (0: Newton to "
+                             f"convergence), got {newton_per_pass!r}")
+        self.newton_per_pass = int(newton_per_pass)
         fibres = fabric.fibres()
         self.model = Model(fibres, element=element, comm=comm)
         self.contact = FibreContact(contact, fibre_yarn=fabric.fibre_yarn,
@@ -191,6 +230,10 @@ class Weaving:
                     f"that much (with tails of 0.8 spacing an end element folds)")
             self.heddles = Heddles(fabric, amplitude * height, stiffness=self.HEDDLE_STIFFNESS)
             self.model.add_effect(self.heddles)
+        self.viscous_drag = None
+        if self.drag > 0:
+            self.viscous_drag = ViscousDrag(0.0)   # switched on by the settling stage
+            self.model.add_effect(self.viscous_drag)
         self.clamps, self.pulls = [], []
         for k in range(fabric.num_yarns):
             mine = np.flatnonzero(fabric.fibre_yarn == k)
@@ -213,33 +256,48 @@ class Weaving:
         """The weaving stage, then the ordinary-contact relaxation (ordered
         method); lifting, settling, relaxation (lifting method)."""
         if self.method == "lifting":
-            stiffness, passes = self.HEDDLE_STIFFNESS, self.NEWTON_PER_PASS
-            return [Stage("lifting", effects={self.contact: weaving_mode(self.fabric,
-                                                                         "within_yarns"),
-                                              self.heddles: dict(lift=lambda s: s,
-                                                                 stiffness=stiffness)},
-                          solver=dict(initial_step=1.0 / self.steps, max_step=1.0 / self.steps,
-                                      newton_per_pass=passes)),
-                    Stage("settling", effects={
-                        self.contact: dict(mode="ordinary", make_up_penetrations=True,
-                                           update_tolerance=max(self.SETTLING_UPDATE_TOLERANCE,
-                                                                self._update_tolerance)),
-                        self.heddles: dict(lift=1.0,
-                                           stiffness=lambda s: stiffness * (1 - s) ** 2)},
-                          solver=dict(initial_step=1.0 / self.settling_steps,
-                                      max_step=1.0 / self.settling_steps,
-                                      newton_per_pass=passes)),
-                    Stage("relaxation", effects={
-                        self.heddles: dict(stiffness=0.0),
-                        self.contact: dict(update_tolerance=self._update_tolerance)},
-                          solver=dict(initial_step=1.0 / self.relaxation_steps,
-                                      max_step=1.0 / self.relaxation_steps,
-                                      newton_per_pass=passes))]
+            stiffness, passes = self.HEDDLE_STIFFNESS, self.newton_per_pass
+            stages = [Stage("lifting", effects={self.contact: weaving_mode(self.fabric,
+                                                                           "within_yarns"),
+                                                self.heddles: dict(lift=lambda s: s,
+                                                                   stiffness=stiffness)},
+                            solver=dict(initial_step=1.0 / self.steps, max_step=1.0 / self.steps,
+                                        newton_per_pass=passes)),
+                      Stage("settling", effects={
+                          self.contact: dict(mode="ordinary", make_up_penetrations=True,
+                                             update_tolerance=max(self.SETTLING_UPDATE_TOLERANCE,
+                                                                  self._update_tolerance)),
+                          self.heddles: dict(lift=1.0,
+                                             stiffness=lambda s: stiffness * (1 - s) ** 2)},
+                            solver=dict(initial_step=1.0 / self.settling_steps,
+                                        max_step=1.0 / self.settling_steps,
+                                        newton_per_pass=passes)),
+                      Stage("relaxation", effects={
+                          self.heddles: dict(stiffness=0.0),
+                          self.contact: dict(update_tolerance=self._update_tolerance)},
+                            solver=dict(initial_step=1.0 / self.relaxation_steps,
+                                        max_step=1.0 / self.relaxation_steps,
+                                        newton_per_pass=passes))]
+            return self._with_drag(stages) if self.viscous_drag is not None else stages
         return [Stage("weaving", effects={self.contact: weaving_mode(self.fabric)},
                       solver=dict(initial_step=1.0 / self.steps, max_step=1.0 / self.steps)),
                 Stage("relaxation", effects={self.contact: dict(mode="ordinary")},
                       solver=dict(initial_step=1.0 / self.relaxation_steps,
                                   max_step=1.0 / self.relaxation_steps))]
+
+    def _with_drag(self, stages: list[Stage]) -> list[Stage]:
+        """The lifting weave's stages with the drag on in the settling,
+        faded out in a ``fading`` stage, off in the relaxation."""
+        lifting, settling, relaxation = stages
+        c = self.drag
+        settling.effects[self.viscous_drag] = dict(coefficient=c)
+        fading = Stage("fading", effects={**relaxation.effects,
+                                          self.viscous_drag: dict(
+                                              coefficient=lambda s: c * (1 - s) ** 2)},
+                       solver=dict(relaxation.solver, initial_step=1.0 / self.FADING_STEPS,
+                                   max_step=1.0 / self.FADING_STEPS))
+        relaxation.effects[self.viscous_drag] = dict(coefficient=0.0)
+        return [lifting, settling, fading, relaxation]
 
     def output(self, directory: str, **options) -> Output:
         """An :class:`~textile.output.Output` that also writes each fibre's
