@@ -253,7 +253,8 @@ def _schema():
                     "free_length_spacings": (number(minimum=0.0), None),
                     "elements_per_crossing": (integer(1), None), "order": (integer(1), 2)})
     weaving = table({"steps": (integer(1), None), "relaxation_steps": (integer(1), 1),
-                     "tension": (number(positive=True), 1e-4), "contact": (contact, None)})
+                     "tension": (number(positive=True), 1e-4), "drag": (number(minimum=0), 0.0),
+                     "contact": (contact, None)})
     test_keys = {"type": (string(TEST_TYPES), None), "name": (string(), None),
                  "steps": (integer(1), None), "release_steps": (integer(0), None),
                  "strain": (number(nonzero=True), None), "ratio": (number(), None),
@@ -765,10 +766,11 @@ class Scene:
 
     def weaving_options(self) -> dict:
         w = self.data["weaving"] or {"steps": None, "relaxation_steps": 1, "tension": 1e-4,
-                                     "contact": None}
+                                     "drag": 0.0, "contact": None}
         return dict(steps=w["steps"] or self.preset()["weaving"]["steps"],
                     relaxation_steps=w["relaxation_steps"], tension=w["tension"],
-                    contact=self.contact_options(w["contact"]), element=self.element())
+                    contact=self.contact_options(w["contact"]), element=self.element(),
+                    **({"drag": w["drag"]} if w["drag"] > 0 else {}))
 
     # -- running -----------------------------------------------------------------
     def run(self, output: str | None = None, resume: str | None = None, comm=None) -> dict:

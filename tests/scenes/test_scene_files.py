@@ -319,6 +319,14 @@ def test_wrong_type(tmp_path):
     data = scene_of("twisted_pair.toml")
     data["stages"][1]["solver"]["max_step"] = True
     refused(tmp_path, data, "scene.toml: stages[1].solver.max_step: must be a number, got true")
+    data = scene_of("plain_weave.toml")
+    data.setdefault("weaving", {})["drag"] = -1
+    refused(tmp_path, data, "scene.toml: weaving.drag: must be a number >= 0, got -1")
+    # a valid drag reaches Weaving (docs/method.md §6.4)
+    data["weaving"]["drag"] = 0.1
+    write_toml(tmp_path / "drag.toml", data)
+    from textile.scene_file import read_scene
+    assert read_scene(str(tmp_path / "drag.toml")).weaving_options()["drag"] == 0.1
 
 
 def test_missing_field(tmp_path):
