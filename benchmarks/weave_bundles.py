@@ -1,8 +1,9 @@
 """Weaving bundles: 2 x 2 plain weaves of hexagonal bundles, by lifting
 (heddles, the default for bundles) or by ordered contact (the paper's).
 
-Weaves a 2 x 2 plain weave of ``--fibres`` hexagonal bundles (R = 0.1 mm,
-E = 5 GPa), ``--spacing`` yarn widths apart. ``--method lifting``: the
+Weaves a 2 x 2 plain weave (``--yarns``, ``--pattern``) of ``--fibres``
+hexagonal bundles (R = 0.1 mm, E = 5 GPa; ``--twist`` turns per R),
+``--spacing`` yarn widths (diameters, twisted) apart. ``--method lifting``: the
 lifting weave's three stages (:class:`textile.fabric.weaving.Weaving`).
 ``--method ordered``: the ordered weave, per case with the weaving stage's
 ``easy_iterations`` and an optional :class:`~textile.effects.ViscousDrag`
@@ -16,6 +17,7 @@ wall time (benchmarks/README.md, "Bundles").
 
     .venv/bin/python benchmarks/weave_bundles.py --method lifting [--fibres 3 7]
         [--twist 0.016667 --drag 0.1 --newton-per-pass 0]
+        [--yarns 4 --pattern "twill 2/2" --drag 0.1 --lifting-drag 0.1]
     .venv/bin/python benchmarks/weave_bundles.py [--fibres 3 7] [--spacing 2]
         [--easy 4 12] [--drag 0 1] [--relax]
 """
@@ -40,16 +42,18 @@ MAT = textile.Material(5.0e9, 0.35)
 
 def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm,
           relaxation_steps: int = 1, make_up: bool = False, method: str = "ordered",
-          free_length: float = 0.5, twist: float = 0.0, newton_per_pass=None) -> dict:
+          free_length: float = 0.5, twist: float = 0.0, newton_per_pass=None,
+          lifting_drag: float = 0.0, pattern: str = "plain", num: int = 2) -> dict:
     # a twisted yarn's fibres lie on helices: a clearance keeps neighbours apart
     yarn = Yarn(fibres, R, MAT, packing="hexagonal", twist=twist / R,
                 **({"clearance": 0.1} if twist else {}))
     across = yarn.diameter if twist else yarn.width
-    fabric = Fabric(yarn, num_warp=2, num_weft=2, spacing=spacing * across,
-                    pattern="plain", elements_per_crossing=4,
+    fabric = Fabric(yarn, num_warp=num, num_weft=num, spacing=spacing * across,
+                    pattern=pattern, elements_per_crossing=4,
                     free_length=free_length * spacing * across)
     weaving = Weaving(fabric, comm=comm, relaxation_steps=relaxation_steps, method=method,
-                      **(dict(drag=drag, newton_per_pass=newton_per_pass)
+                      **(dict(drag=drag, lifting_drag=lifting_drag,
+                              newton_per_pass=newton_per_pass)
                          if method == "lifting" else {}))
     stages = weaving.stages()
     if method == "lifting":
@@ -62,7 +66,8 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
             error = str(e)
         return _row(weaving, solver, error, time.perf_counter() - t0,
                     dict(fibres=fibres, spacing=spacing, method=method, free_length=free_length,
-                         drag=drag, twist=twist, newton_per_pass=weaving.newton_per_pass))
+                         drag=drag, twist=twist, newton_per_pass=weaving.newton_per_pass,
+                         lifting_drag=lifting_drag, pattern=pattern, yarns=num))
     stages[0].solver.update(easy_iterations=easy)
     if make_up:
         stages[1].effects[weaving.contact]["make_up_penetrations"] = True
@@ -118,6 +123,10 @@ def main():
                         "--drag as Weaving's drag (default 0 there)")
     p.add_argument("--newton-per-pass", type=int, default=None,
                    help="lifting: Weaving's newton_per_pass (default its NEWTON_PER_PASS)")
+    p.add_argument("--lifting-drag", type=float, default=0.0,
+                   help="lifting: Weaving's lifting_drag")
+    p.add_argument("--pattern", default="plain", help="weave pattern (e.g. \"twill 2/2\")")
+    p.add_argument("--yarns", type=int, default=2, help="yarns each way")
     p.add_argument("--twist", type=float, default=0.0,
                    help="yarn twist, turns per fibre radius (e.g. 0.016667: a turn per 60 R)")
     p.add_argument("--free-length", type=float, default=None,
@@ -132,7 +141,7 @@ def main():
     for fibres, easy, drag in cases:
         row = weave(fibres, args.spacing, easy, drag, args.relax, MPI.COMM_SELF,
                     args.relaxation_steps, args.make_up, args.method, free, args.twist,
-                    args.newton_per_pass)
+                    args.newton_per_pass, args.lifting_drag, args.pattern, args.yarns)
         rows.append(row)
         print(f"{fibres} fibres, {args.method}, easy_iterations {easy}, drag {drag:g}: "
               f"{row['stage']} s={row['load_factor']:.3f}, "

@@ -324,9 +324,11 @@ def test_wrong_type(tmp_path):
     refused(tmp_path, data, "scene.toml: weaving.drag: must be a number >= 0, got -1")
     # a valid drag reaches Weaving (docs/method.md §6.4)
     data["weaving"]["drag"] = 0.1
+    data["weaving"]["lifting_drag"] = 0.2
     write_toml(tmp_path / "drag.toml", data)
     from textile.scene_file import read_scene
-    assert read_scene(str(tmp_path / "drag.toml")).weaving_options()["drag"] == 0.1
+    options = read_scene(str(tmp_path / "drag.toml")).weaving_options()
+    assert options["drag"] == 0.1 and options["lifting_drag"] == 0.2
 
 
 def test_missing_field(tmp_path):

@@ -139,8 +139,14 @@ def test_bad_weaving_options():
     for drag in (-0.1, float("nan"), True):
         with pytest.raises(ValueError, match="drag is a coefficient >= 0"):
             Weaving(bundles, drag=drag, comm=MPI.COMM_SELF)
+        with pytest.raises(ValueError, match="lifting_drag is a coefficient >= 0"):
+            Weaving(bundles, lifting_drag=drag, comm=MPI.COMM_SELF)
     with pytest.raises(ValueError, match="drag belongs to the lifting weave"):
         Weaving(fab, drag=0.1, comm=MPI.COMM_SELF)   # monofilaments: ordered
+    lifted = Weaving(bundles, lifting_drag=0.1, comm=MPI.COMM_SELF)
+    assert [st.name for st in lifted.stages()] == ["lifting", "settling", "relaxation"]
+    assert lifted.stages()[0].effects[lifted.viscous_drag]["coefficient"] == 0.1
+    assert lifted.stages()[1].effects[lifted.viscous_drag]["coefficient"] == 0.0
     for n in (-1, 2.5):
         with pytest.raises(ValueError, match="newton_per_pass is an integer >= 0"):
             Weaving(bundles, newton_per_pass=n, comm=MPI.COMM_SELF)
@@ -156,6 +162,7 @@ def test_a_drag_is_faded_out_before_the_relaxation():
     stages = w.stages()
     assert [st.name for st in stages] == ["lifting", "settling", "fading", "relaxation"]
     drag = w.viscous_drag
+    assert stages[0].effects[drag]["coefficient"] == 0.0   # lifting_drag's
     assert stages[1].effects[drag]["coefficient"] == 0.1
     fade = stages[2].effects[drag]["coefficient"]
     assert fade(0.0) == pytest.approx(0.1) and fade(1.0) == 0.0

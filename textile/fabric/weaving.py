@@ -100,10 +100,15 @@ class Weaving:
         A path through the instabilities where the heddles let go, where
         the contact loop otherwise alternates between two sets (twisted
         bundles). 0 (default): no drag, three stages.
+    lifting_drag:
+        Lifting: the same drag's coefficient in the lifting stage (default
+        0), a path through the lifted bundles' instabilities (the 4 x 4
+        twill's lifting stops at 0.86 without it); it ends with the
+        lifting. On twisted bundles it stops the settling's first step.
     newton_per_pass:
         Lifting: Newton iterations between contact updates in its stages
         (``SolverOptions.newton_per_pass``; 0: each Newton solve to
-        convergence). Default: ``NEWTON_PER_PASS``, 0 with ``drag`` (with
+        convergence). Default: ``NEWTON_PER_PASS``, 0 with a drag (with
         capped solves the fading stage folds elements on the 3-fibre and
         the twisted 7-fibre weaves: benchmarks/README.md, "Twisted
         bundles").
@@ -167,7 +172,8 @@ class Weaving:
     def __init__(self, fabric: Fabric, steps: int | None = None,
                  relaxation_steps: int = 1, tension: float = 1e-4, contact=None, element=None,
                  method: str | None = None, settling_steps: int = 16, amplitude: float = 0.55,
-                 drag: float = 0.0, newton_per_pass: int | None = None,
+                 drag: float = 0.0, lifting_drag: float = 0.0,
+                 newton_per_pass: int | None = None,
                  preset: str | None = None, comm=MPI.COMM_WORLD):
         if not isinstance(fabric, Fabric):
             raise TypeError(f"Weaving: fabric must be a textile.fabric.Fabric, got "
@@ -195,17 +201,20 @@ class Weaving:
         if isinstance(tension, bool) or not isinstance(tension, numbers.Real) \
                 or not math.isfinite(tension) or tension <= 0 or tension >= 0.1:
             raise ValueError(f"Weaving: tension is an axial strain, in (0, 0.1); got {tension!r}")
-        if isinstance(drag, bool) or not isinstance(drag, numbers.Real) \
-                or not math.isfinite(drag) or drag < 0:
-            raise ValueError(f"Weaving: drag is a coefficient >= 0, got {drag!r}")
-        if drag > 0 and method != "lifting":
-            raise ValueError("Weaving: drag belongs to the lifting weave (its settling stage); "
-                             f"this weave's method is {method!r}")
+        for name, value in (("drag", drag), ("lifting_drag", lifting_drag)):
+            if isinstance(value, bool) or not isinstance(value, numbers.Real) \
+                    or not math.isfinite(value) or value < 0:
+                raise ValueError(f"Weaving: {name} is a coefficient >= 0, got {value!r}")
+            if value > 0 and method != "lifting":
+                raise ValueError(f"Weaving: {name} belongs to the lifting weave; this weave's "
+                                 f"method is {method!r}")
         self.fabric = fabric
         self.tension = float(tension)
         self.drag = float(drag)
+        self.lifting_drag = float(lifting_drag)
         if newton_per_pass is None:
-            newton_per_pass = 0 if self.drag > 0 else self.NEWTON_PER_PASS
+            newton_per_pass = 0 if self.drag > 0 or self.lifting_drag > 0 \
+                else self.NEWTON_PER_PASS
         if isinstance(newton_per_pass, bool) or not isinstance(newton_per_pass, numbers.Integral) \
                 or newton_per_pass < 0:
             raise ValueError(f"Weaving: newton_per_pass is an integer >= 0 (0: Newton to "
@@ -231,8 +240,8 @@ class Weaving:
             self.heddles = Heddles(fabric, amplitude * height, stiffness=self.HEDDLE_STIFFNESS)
             self.model.add_effect(self.heddles)
         self.viscous_drag = None
-        if self.drag > 0:
-            self.viscous_drag = ViscousDrag(0.0)   # switched on by the settling stage
+        if self.drag > 0 or self.lifting_drag > 0:
+            self.viscous_drag = ViscousDrag(0.0)   # switched on by the stages
             self.model.add_effect(self.viscous_drag)
         self.clamps, self.pulls = [], []
         for k in range(fabric.num_yarns):
@@ -286,11 +295,15 @@ class Weaving:
                                   max_step=1.0 / self.relaxation_steps))]
 
     def _with_drag(self, stages: list[Stage]) -> list[Stage]:
-        """The lifting weave's stages with the drag on in the settling,
-        faded out in a ``fading`` stage, off in the relaxation."""
+        """The lifting weave's stages with the drags on in the lifting
+        (``lifting_drag``) and the settling (``drag``, then faded out in a
+        ``fading`` stage), off in the relaxation."""
         lifting, settling, relaxation = stages
         c = self.drag
+        lifting.effects[self.viscous_drag] = dict(coefficient=self.lifting_drag)
         settling.effects[self.viscous_drag] = dict(coefficient=c)
+        if c == 0:
+            return [lifting, settling, relaxation]
         fading = Stage("fading", effects={**relaxation.effects,
                                           self.viscous_drag: dict(
                                               coefficient=lambda s: c * (1 - s) ** 2)},
