@@ -23,8 +23,9 @@ yarn lies on top at each crossing. The solver *weaves* the fabric
 3. **relaxation**: no heddles: the woven state.
 
 The yarns' tails are one spacing long (lifted, the yarns crimp by up to
-20% before they settle). About 25 s on 2 cores (``bash .ci/demo`` runs it
-on two ranks).
+20% before they settle). About 30 s on 2 cores (``bash .ci/demo`` runs it
+on two ranks). Twills and twisted bundles weave with a pseudo-time drag
+(``Weaving(drag=..., lifting_drag=...)``, docs/method.md §6.4).
 
 Flat yarns (``--packing "layers 1"``) and monofilaments (``--fibres 1``,
 woven screens, filter fabrics; a few seconds) weave as in the paper:
@@ -56,8 +57,8 @@ What to look at
   from (``textile.load_state``).
 
 Run: ``mpirun -n 2 python3 demos/demo_plain_weave.py [--output DIR]
-[--fibres N] [--packing P] [--elements N] [--spacing S]`` (about 25 s on 2
-ranks, 55 s on one; a few seconds with ``--fibres 1 --spacing 6``).
+[--fibres N] [--packing P] [--elements N] [--spacing S]`` (about 30 s on 2
+ranks, 40 s on one; a few seconds with ``--fibres 1 --spacing 6``).
 """
 import argparse
 import os
