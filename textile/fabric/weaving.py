@@ -263,7 +263,8 @@ class Weaving:
 
     def stages(self) -> list[Stage]:
         """The weaving stage, then the ordinary-contact relaxation (ordered
-        method); lifting, settling, relaxation (lifting method)."""
+        method); lifting, settling, relaxation (lifting method; with a
+        ``drag``, a ``fading`` stage before the relaxation)."""
         if self.method == "lifting":
             stiffness, passes = self.HEDDLE_STIFFNESS, self.newton_per_pass
             stages = [Stage("lifting", effects={self.contact: weaving_mode(self.fabric,
