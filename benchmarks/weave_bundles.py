@@ -18,6 +18,7 @@ wall time (benchmarks/README.md, "Bundles").
     .venv/bin/python benchmarks/weave_bundles.py --method lifting [--fibres 3 7]
         [--twist 0.016667 --drag 0.1 --newton-per-pass 0]
         [--yarns 4 --pattern "twill 2/2" --drag 0.1 --lifting-drag 0.1]
+        [--fibres 19 --free-length 2 --pull fibre]
     .venv/bin/python benchmarks/weave_bundles.py [--fibres 3 7] [--spacing 2]
         [--easy 4 12] [--drag 0 1] [--relax]
 """
@@ -43,7 +44,8 @@ MAT = textile.Material(5.0e9, 0.35)
 def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm,
           relaxation_steps: int = 1, make_up: bool = False, method: str = "ordered",
           free_length: float = 0.5, twist: float = 0.0, newton_per_pass=None,
-          lifting_drag: float = 0.0, pattern: str = "plain", num: int = 2) -> dict:
+          lifting_drag: float = 0.0, pattern: str = "plain", num: int = 2,
+          pull: str = "yarn") -> dict:
     # a twisted yarn's fibres lie on helices: a clearance keeps neighbours apart
     yarn = Yarn(fibres, R, MAT, packing="hexagonal", twist=twist / R,
                 **({"clearance": 0.1} if twist else {}))
@@ -53,7 +55,7 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
                     free_length=free_length * spacing * across)
     weaving = Weaving(fabric, comm=comm, relaxation_steps=relaxation_steps, method=method,
                       **(dict(drag=drag, lifting_drag=lifting_drag,
-                              newton_per_pass=newton_per_pass)
+                              newton_per_pass=newton_per_pass, pull=pull)
                          if method == "lifting" else {}))
     stages = weaving.stages()
     if method == "lifting":
@@ -67,7 +69,7 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
         return _row(weaving, solver, error, time.perf_counter() - t0,
                     dict(fibres=fibres, spacing=spacing, method=method, free_length=free_length,
                          drag=drag, twist=twist, newton_per_pass=weaving.newton_per_pass,
-                         lifting_drag=lifting_drag, pattern=pattern, yarns=num))
+                         lifting_drag=lifting_drag, pattern=pattern, yarns=num, pull=pull))
     stages[0].solver.update(easy_iterations=easy)
     if make_up:
         stages[1].effects[weaving.contact]["make_up_penetrations"] = True
@@ -125,6 +127,8 @@ def main():
                    help="lifting: Weaving's newton_per_pass (default its NEWTON_PER_PASS)")
     p.add_argument("--lifting-drag", type=float, default=0.0,
                    help="lifting: Weaving's lifting_drag")
+    p.add_argument("--pull", choices=("yarn", "fibre"), default="yarn",
+                   help="lifting: Weaving's pull (a pull body per yarn or per fibre)")
     p.add_argument("--pattern", default="plain", help="weave pattern (e.g. \"twill 2/2\")")
     p.add_argument("--yarns", type=int, default=2, help="yarns each way")
     p.add_argument("--twist", type=float, default=0.0,
@@ -141,7 +145,8 @@ def main():
     for fibres, easy, drag in cases:
         row = weave(fibres, args.spacing, easy, drag, args.relax, MPI.COMM_SELF,
                     args.relaxation_steps, args.make_up, args.method, free, args.twist,
-                    args.newton_per_pass, args.lifting_drag, args.pattern, args.yarns)
+                    args.newton_per_pass, args.lifting_drag, args.pattern, args.yarns,
+                    args.pull)
         rows.append(row)
         print(f"{fibres} fibres, {args.method}, easy_iterations {easy}, drag {drag:g}: "
               f"{row['stage']} s={row['load_factor']:.3f}, "

@@ -12,6 +12,9 @@ the :class:`~textile.fabric.Fabric` that built them:
 - **section shape** at a crossing: width (across the yarn, in the fabric
   plane) and height (vertical) of the yarn's fibres where they cut the
   plane through the crossing orthogonal to the yarn, fibre radius included;
+  a crossing lies where the two yarns now are in the fabric plane (the mean
+  position of each one's fibre nodes across its direction), not where they
+  started (a compacted fabric's yarns have moved);
 - **curvature** of the fibres: per node, the turning angle of the centre
   line divided by the mean length of the two segments.
 """
@@ -74,11 +77,23 @@ def _cut(fabric, model, q: np.ndarray, k: int, along: int, cut: float) -> np.nda
     return np.array(pts)
 
 
+def _crossings(fabric, model, q: np.ndarray):
+    """``fabric.crossings()`` with each point where warp j and weft i now
+    cross in the fabric plane: the mean y of warp j's fibre nodes, the mean
+    x of weft i's."""
+    def across(k, axis):
+        return float(np.mean([q[model.mesh.fibre_nodes(f), axis].mean()
+                              for f in _fibres_of(fabric, k)]))
+    for i, j, point, warp_on_top in fabric.crossings():
+        now = np.array([across(fabric.num_warp + i, 0), across(j, 1)])
+        yield i, j, now, warp_on_top
+
+
 def section_shapes(fabric, model) -> list[dict]:
     """Width and height of each yarn at each of its crossings."""
     q = model.nodal_unknowns()
     out = []
-    for i, j, point, warp_on_top in fabric.crossings():
+    for i, j, point, warp_on_top in _crossings(fabric, model, q):
         for k, along in ((j, 0), (fabric.num_warp + i, 1)):
             across = 1 - along
             yarn = fabric.yarn(k)
@@ -98,7 +113,7 @@ def crossing_separation(fabric, model) -> np.ndarray:
     (Not a gap: the radii are not subtracted.)"""
     q = model.nodal_unknowns()
     out = []
-    for i, j, point, warp_on_top in fabric.crossings():
+    for i, j, point, warp_on_top in _crossings(fabric, model, q):
         warp = _cut(fabric, model, q, j, 0, point[0])[:, 2]
         weft = _cut(fabric, model, q, fabric.num_warp + i, 1, point[1])[:, 2]
         top, bottom = (warp, weft) if warp_on_top else (weft, warp)

@@ -112,6 +112,15 @@ class Weaving:
         capped solves the fading stage folds elements on the 3-fibre and
         the twisted 7-fibre weaves: benchmarks/README.md, "Twisted
         bundles").
+    pull:
+        ``"yarn"`` (default): one pull body holds the end sections of all
+        the fibres of a yarn (they slide in together); ``"fibre"``: a pull
+        body per fibre, each loaded by its own share of the tension, so the
+        fibres of a bundle slip past each other at the pulled end as the
+        yarn bends (with ``"yarn"``, a 19-fibre bundle's fibres near the
+        held end fold as the heddles let go; the 7-fibre weave takes more
+        failed attempts with ``"fibre"``: benchmarks/README.md, "19-fibre
+        bundles").
     preset:
         Accuracy preset (:mod:`textile.presets`: "draft", "standard" (None),
         "fine"): ``steps``, ``contact``, ``element`` and :meth:`run`'s solver
@@ -146,6 +155,7 @@ class Weaving:
     """
 
     METHODS = ("ordered", "lifting")
+    PULLS = ("yarn", "fibre")
     #: the heddles' springs while they hold the yarns, in units of each
     #: fibre's 12 E I / L^3 (Heddles): stiff enough that the yarns follow
     #: them (their fibres bend as the heddles ask) and soft enough not to
@@ -173,7 +183,7 @@ class Weaving:
                  relaxation_steps: int = 1, tension: float = 1e-4, contact=None, element=None,
                  method: str | None = None, settling_steps: int = 16, amplitude: float = 0.55,
                  drag: float = 0.0, lifting_drag: float = 0.0,
-                 newton_per_pass: int | None = None,
+                 newton_per_pass: int | None = None, pull: str = "yarn",
                  preset: str | None = None, comm=MPI.COMM_WORLD):
         if not isinstance(fabric, Fabric):
             raise TypeError(f"Weaving: fabric must be a textile.fabric.Fabric, got "
@@ -208,6 +218,8 @@ class Weaving:
             if value > 0 and method != "lifting":
                 raise ValueError(f"Weaving: {name} belongs to the lifting weave; this weave's "
                                  f"method is {method!r}")
+        if pull not in self.PULLS:
+            raise ValueError(f"Weaving: pull must be one of {self.PULLS}, got {pull!r}")
         self.fabric = fabric
         self.tension = float(tension)
         self.drag = float(drag)
@@ -243,6 +255,7 @@ class Weaving:
         if self.drag > 0 or self.lifting_drag > 0:
             self.viscous_drag = ViscousDrag(0.0)   # switched on by the stages
             self.model.add_effect(self.viscous_drag)
+        self.pull = pull
         self.clamps, self.pulls = [], []
         for k in range(fabric.num_yarns):
             mine = np.flatnonzero(fabric.fibre_yarn == k)
@@ -250,16 +263,20 @@ class Weaving:
             label = f"{fabric.yarn_direction(k)} {index}"
             clamp = RigidBody(f"{label} clamp", sections=[(int(f), 0) for f in mine])
             clamp.fix("all")
-            pull = RigidBody(f"{label} pull", sections=[(int(f), -1) for f in mine])
-            a, b = fabric.yarn_axis(k)
-            pull.fix(("z", "rotation", "y" if k < fabric.num_warp else "x"))
-            axis = (b - a) / np.linalg.norm(b - a)
-            ea = sum(fibres[f].material.young * math.pi * fibres[f].radius ** 2 for f in mine)
-            pull.add_force(self.tension * ea * axis)
             self.model.add_rigid_body(clamp)
-            self.model.add_rigid_body(pull)
             self.clamps.append(clamp)
-            self.pulls.append(pull)
+            a, b = fabric.yarn_axis(k)
+            axis = (b - a) / np.linalg.norm(b - a)
+            groups = [mine] if pull == "yarn" else [[f] for f in mine]
+            for n, group in enumerate(groups):
+                name = f"{label} pull" if pull == "yarn" else f"{label} pull {n}"
+                body = RigidBody(name, sections=[(int(f), -1) for f in group])
+                body.fix(("z", "rotation", "y" if k < fabric.num_warp else "x"))
+                ea = sum(fibres[f].material.young * math.pi * fibres[f].radius ** 2
+                         for f in group)
+                body.add_force(self.tension * ea * axis)
+                self.model.add_rigid_body(body)
+                self.pulls.append(body)
 
     def stages(self) -> list[Stage]:
         """The weaving stage, then the ordinary-contact relaxation (ordered
