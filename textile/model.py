@@ -18,6 +18,7 @@ from .beam.fibre import Fibre
 from .beam.fibre_mesh import FibreMesh, dof_indices
 from .effects import BeamElasticity, EndMoments, NodalForces, State
 from .effects.base import Effect
+from .effects.prescribed_displacements import PrescribedDisplacements
 from .layout import DofLayout, Field, SparsityBuilder
 from .loading import Handle, Schedule
 from .solver.convergence import ResidualGroups
@@ -49,10 +50,7 @@ class Model:
         self._moments = EndMoments()
         self._effects: list[Effect] = []
         self._rigid = None
-        # prescribed beam dofs: one schedule component per (global node, dof)
-        self._prescribed = Schedule("prescribed displacements")
-        self._prescribed_keys: list[tuple[int, int]] = []
-        self._prescribed_index: dict[tuple[int, int], int] = {}
+        self._prescribed = PrescribedDisplacements()
         self._ready = False
         self.load_factor = 0.0
         #: Newton variant of the tangents SNES asks for: "standard" (exact
@@ -91,22 +89,16 @@ class Model:
         """
         self._check_open()
         idx = dof_indices(dofs)
-        g = self.mesh.node(fibre, node)
-        comps = []
-        for d in idx:
-            if (g, d) not in self._prescribed_index:
-                self._prescribed_index[(g, d)] = len(self._prescribed_keys)
-                self._prescribed_keys.append((g, d))
-                self._prescribed.add(0.0, f"node {g} dof {d}")
-            comps.append(self._prescribed_index[(g, d)])
-        handle = Handle(self._prescribed, np.array(comps), f"fibre {fibre} node {node} {idx}")
-        if callable(value):
-            self._prescribed.follow(handle, value)
-        else:
+        if not callable(value):
             vals = np.broadcast_to(np.asarray(value, dtype=float), (len(idx),))
             if not np.all(np.isfinite(vals)):
                 raise ValueError("value contains NaN or infinite numbers")
-            self._prescribed.ramp(handle, vals)
+        handle = self._prescribed.add(self.mesh.node(fibre, node), idx,
+                                      f"fibre {fibre} node {node} {idx}")
+        if callable(value):
+            self._prescribed.schedule.follow(handle, value)
+        else:
+            self._prescribed.schedule.ramp(handle, vals)
         return handle
 
     def clamp(self, fibre, node: int) -> Handle:
@@ -158,10 +150,13 @@ class Model:
     # -- stages ------------------------------------------------------------
     def schedules(self) -> list[Schedule]:
         """Every schedule of the scene: prescribed displacements, nodal
-        forces, end moments and the effects' own (rigid bodies, ...)."""
-        out = [self._prescribed]
+        forces, end moments and the effects' own (rigid bodies, ...). The
+        prescribed displacements' schedule comes first even when empty (a
+        state file lists it)."""
+        out = [self._prescribed.schedule]
         for e in self.effects:
-            out += e.schedules()
+            if e is not self._prescribed:
+                out += e.schedules()
         return out
 
     def begin_stage(self, stage) -> bool:
@@ -249,6 +244,8 @@ class Model:
     def effects(self) -> list[Effect]:
         """Effects assembled in this scene (loads only when present)."""
         out: list[Effect] = [self.beam]
+        if len(self._prescribed):
+            out.append(self._prescribed)
         if len(self._forces.schedule):
             out.append(self._forces)
         if len(self._moments.schedule):
@@ -301,19 +298,8 @@ class Model:
         self._ready = True
 
     def _setup_constraints(self) -> None:
-        """The prescribed beam dofs of this rank (active components of the
-        schedule), and the constrained set every effect sees."""
-        mesh = self.mesh
-        keys = [(k, key) for k, key in enumerate(self._prescribed_keys)
-                if self._prescribed.active[k]]
-        nodes = np.array([key[0] for _, key in keys], dtype=np.int64)
-        local = mesh.global_to_local(nodes) if keys else np.zeros(0, dtype=np.int64)
-        have = local >= 0
-        self._beam_fixed_local = np.array([9 * l + key[1] for l, (_, key) in
-                                           zip(local[have], [k for k, h in zip(keys, have) if h])],
-                                          dtype=np.int64)
-        self._beam_fixed_components = np.array([k for (k, _), h in zip(keys, have) if h],
-                                               dtype=np.int64)
+        """The constrained set every effect sees: the effects' constraints
+        (prescribed displacements, rigid bodies' couplings, ...)."""
         self.invalidate_constraints()
         self._beam_global_dofs = None
         # the set of constrained dofs is fixed within a stage (values change
@@ -335,9 +321,8 @@ class Model:
         """Field -> (local unrolled dofs, prescribed displacement at t)."""
         if self._constraint_cache is not None and self._constraint_cache[0] == t:
             return self._constraint_cache[1]
-        vals = self._prescribed.values(t)[self._beam_fixed_components]
-        out = {"beam": (self._beam_fixed_local, vals)}
-        for e in self._effects:
+        out = {"beam": (np.zeros(0, dtype=np.int64), np.zeros(0))}
+        for e in self.effects:
             for name, (dofs, v) in e.constraints(t).items():
                 if name in out:
                     d0, v0 = out[name]
