@@ -19,6 +19,7 @@ from .beam.fibre_mesh import FibreMesh, dof_indices
 from .effects import BeamElasticity, EndMoments, NodalForces, State
 from .effects.base import Effect
 from .effects.prescribed_displacements import PrescribedDisplacements
+from .constraint_set import ConstraintSet
 from .layout import DofLayout, Field, SparsityBuilder
 from .loading import Handle, Schedule
 from .solver.convergence import ResidualGroups
@@ -62,15 +63,12 @@ class Model:
         #: tangents assembled since the solver last ran the effects'
         #: prepare or update (State.tangent_index; see start_newton)
         self._tangents_since_update = 0
-        self._constraint_cache: tuple | None = None
+        #: the constrained unknowns (built with the layout, in setup)
+        self.constraint_set: ConstraintSet | None = None
         self._beam_global_dofs = None
         self._floor_tangent = None
         self._external_work: PETSc.Vec | None = None   # _applied_forces
-        self._owned_constrained_cache = None             # _owned_constrained
         self._applied_kept = None                        # _applied_forces
-        self._constrained_positions_cache = None
-        #: counts the changes of the constrained set (_setup_constraints)
-        self.constraint_version = 0
 
     # -- scene definition ------------------------------------------------
     def _check_open(self):
@@ -172,12 +170,7 @@ class Model:
         """The schedules changed (a stage began, a saved state was loaded):
         set the constrained set up again at the current load factor.
         Returns True when it changed (the system matrix is then new)."""
-        before = {k: v.copy() for k, v in self._constrained_dofs.items()}
-        self.invalidate_constraints()
-        self._setup_constraints()
-        changed = before.keys() != self._constrained_dofs.keys() or any(
-            len(before[k]) != len(v) or np.any(before[k] != v)
-            for k, v in self._constrained_dofs.items())
+        changed = self._setup_constraints()
         # the new matrix is collective: a release of unknowns that only one
         # rank holds changes every rank's system
         changed = self.comm.allreduce(bool(changed), op=MPI.LOR)
@@ -199,7 +192,14 @@ class Model:
         (they are recomputed at the next use): call it after changing what
         a schedule gives at the same load factor (e.g. a load factor set and
         set back, Solver's load pattern)."""
-        self._constraint_cache = None
+        if self.constraint_set is not None:
+            self.constraint_set.invalidate()
+
+    @property
+    def constraint_version(self) -> int:
+        """Counts the changes of the constrained set, the same on every
+        rank (ConstraintSet.version; 0 before setup)."""
+        return 0 if self.constraint_set is None else self.constraint_set.version
 
     def request_matrix_rebuild(self) -> None:
         """An effect with dynamic_sparsity has couplings the system matrix
@@ -278,6 +278,7 @@ class Model:
         self.b = self.layout.create_vector()
         # global-index contributions skip constrained dofs (index -1)
         self.b.setOption(PETSc.Vec.Option.IGNORE_NEGATIVE_INDICES, True)
+        self.constraint_set = ConstraintSet(self.layout, lambda: self.effects)
         self._setup_constraints()
         self._setup_residual_groups()
         # the unknowns as the kernels see them: q = u + X_q (fibre positions,
@@ -297,46 +298,18 @@ class Model:
         self.effect_seconds: dict[tuple[str, str], float] = {}
         self._ready = True
 
-    def _setup_constraints(self) -> None:
-        """The constrained set every effect sees: the effects' constraints
-        (prescribed displacements, rigid bodies' couplings, ...)."""
-        self.invalidate_constraints()
+    def _setup_constraints(self) -> bool:
+        """The constrained set every effect sees (the effects'
+        constraints: prescribed displacements, rigid bodies' couplings, ...)
+        read again; True when it changed on this rank."""
         self._beam_global_dofs = None
-        # the set of constrained dofs is fixed within a stage (values change
-        # with s): every effect sees the same mask
-        self._constrained_dofs = {name: dofs for name, (dofs, _)
-                                  in self._constraints(self.load_factor).items()}
-        #: counts the changes of the constrained set, the same on every rank
-        #: (a rank-local key, such as an array's id, may repeat on one rank
-        #: only and split a collective check)
-        self.constraint_version += 1
-        self._masked_dofs = {}
-        for f in self.layout.fields:
-            d = self.layout.local_dofs(f.name).copy()
-            if f.name in self._constrained_dofs:
-                d[self._constrained_dofs[f.name]] = -1
-            self._masked_dofs[f.name] = d
-
-    def _constraints(self, t: float) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-        """Field -> (local unrolled dofs, prescribed displacement at t)."""
-        if self._constraint_cache is not None and self._constraint_cache[0] == t:
-            return self._constraint_cache[1]
-        out = {"beam": (np.zeros(0, dtype=np.int64), np.zeros(0))}
-        for e in self.effects:
-            for name, (dofs, v) in e.constraints(t).items():
-                if name in out:
-                    d0, v0 = out[name]
-                    out[name] = (np.concatenate([d0, dofs]), np.concatenate([v0, v]))
-                else:
-                    out[name] = (np.asarray(dofs, dtype=np.int64), np.asarray(v, dtype=float))
-        self._constraint_cache = (t, out)
-        return out
+        return self.constraint_set.setup(self.load_factor)
 
     def _setup_residual_groups(self) -> None:
         """Rows of the owned global vector by group (see textile.solver.convergence):
         the free rows of each group, and which reactions (constrained rows,
-        in the order of ``_owned_constrained``) belong to it."""
-        constrained = self.owned_positions(self._owned_constrained(0.0)[0])
+        in the order of ``ConstraintSet.owned``) belong to it."""
+        constrained = self.owned_positions(self.constraint_set.owned(0.0)[0])
         owned_constrained = np.unique(constrained)
         rows, scale, reactions, start = {}, {}, {}, 0
         rmax = max(f.radius for f in self.mesh.fibres)
@@ -408,52 +381,12 @@ class Model:
         st = State(self.load_factor)
         for f, a in zip(self.layout.fields, arrays):
             st.u[f.name] = a
-            st.dofs[f.name] = self._masked_dofs[f.name]
+            st.dofs[f.name] = self.constraint_set.masked[f.name]
         return st
 
     def apply_constraints(self, x: PETSc.Vec) -> None:
         """Set prescribed values at the current load factor into x."""
-        arrays = [a.copy() for a in self.layout.get_local(x)]
-        for name, (dofs, vals) in self._constraints(self.load_factor).items():
-            arrays[self.layout.index(name)][dofs] = vals
-        self.layout.scatter(x, arrays)
-        x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
-
-    def _owned_constrained(self, t: float):
-        """Stacked local indices (owned only) and values of constrained dofs
-        (read-only arrays, kept while the constraints at t are)."""
-        cons = self._constraints(t)
-        cached = self._owned_constrained_cache
-        if cached is not None and cached[0] is cons:
-            return cached[1]
-        out = self._compute_owned_constrained(t)
-        for a in out:
-            a.setflags(write=False)
-        self._owned_constrained_cache = (cons, out)
-        return out
-
-    def _owned_positions_constrained(self):
-        """(positions in the owned array, int32 stacked local indices,
-        values) of the constrained dofs at the current load factor."""
-        idx, vals = self._owned_constrained(self.load_factor)
-        cached = self._constrained_positions_cache
-        if cached is None or cached[0] is not idx:
-            pos = self.owned_positions(idx)
-            pos.setflags(write=False)
-            idx32 = idx.astype(np.int32)
-            idx32.setflags(write=False)
-            cached = self._constrained_positions_cache = (idx, pos, idx32)
-        return cached[1], cached[2], vals
-
-    def _compute_owned_constrained(self, t: float):
-        idx, vals = [], []
-        for name, (dofs, v) in self._constraints(t).items():
-            f = self.layout.field(name)
-            own = dofs < f.size_local
-            idx.append(self.layout.offset(name) + dofs[own])
-            vals.append(v[own])
-        return (np.concatenate(idx).astype(np.int64) if idx else np.zeros(0, np.int64),
-                np.concatenate(vals) if vals else np.zeros(0))
+        self.constraint_set.apply(x, self.load_factor)
 
     def rebuild_matrix(self) -> PETSc.Mat:
         """Recreate the system matrix with the base pattern plus the entries
@@ -466,7 +399,7 @@ class Model:
             for e in self.effects:
                 if not e.dynamic_sparsity:
                     e.jacobian(st, self._A_base)
-            idx, _ = self._owned_constrained(self.load_factor)
+            idx, _ = self.constraint_set.owned(self.load_factor)
             _cpp.add_diagonal(self._A_base, idx.astype(np.int32), 1.0)
             self._A_base.assemble()
         P = _cpp.create_preallocator(self._A_base)
@@ -490,7 +423,7 @@ class Model:
     def constrained_positions(self) -> np.ndarray:
         """Positions, in this rank's owned part of the global vector, of the
         unknowns constrained at the current load factor."""
-        idx, _ = self._owned_constrained(self.load_factor)
+        idx, _ = self.constraint_set.owned(self.load_factor)
         return self.owned_positions(idx)
 
     def residual(self, snes, x: PETSc.Vec, b: PETSc.Vec) -> None:
@@ -528,7 +461,7 @@ class Model:
         if self.comm.allreduce(any(added), op=MPI.LOR):
             b.assemble()
         # owned part of the stacked local numbering -> position in the owned array
-        pos, _, vals = self._owned_positions_constrained()
+        pos, _, vals = self.constraint_set.owned_rows(self.load_factor)
         barr = b.getArray()
         xarr = x.getArray(readonly=True)
         self._reaction_values = barr[pos].copy()   # internal - external force at supports
@@ -547,12 +480,12 @@ class Model:
         scale, support reactions) with the load factor and constraints it
         was made at: restore_residual_record sets it back (the solver's
         predictor keeps its last evaluation for Newton's first)."""
-        return (self.load_factor, self._constraint_cache, self.residual_norms,
+        return (self.load_factor, self.constraint_set.key, self.residual_norms,
                 self.force_reference, self._reaction_values)
 
     def residual_record_current(self, record: tuple) -> bool:
         """Was record made at the current load factor and constraints?"""
-        return record[0] == self.load_factor and record[1] is self._constraint_cache
+        return record[0] == self.load_factor and record[1] is self.constraint_set.key
 
     def restore_residual_record(self, record: tuple) -> None:
         self.residual_norms, self.force_reference, self._reaction_values = record[2:]
@@ -604,15 +537,8 @@ class Model:
 
     def owned_positions(self, stacked_local: np.ndarray) -> np.ndarray:
         """Map stacked local indices of owned dofs to positions in the owned
-        part of the global vector (fields' owned blocks are contiguous)."""
-        pos = np.empty_like(stacked_local)
-        start_owned = 0
-        for f in self.layout.fields:
-            off = self.layout.offset(f.name)
-            sel = (stacked_local >= off) & (stacked_local < off + f.size_local)
-            pos[sel] = stacked_local[sel] - off + start_owned
-            start_owned += f.size_local
-        return pos
+        part of the global vector (ConstraintSet.owned_positions)."""
+        return self.constraint_set.owned_positions(stacked_local)
 
     def set_linearization_point(self, x: PETSc.Vec | None = None) -> None:
         """Remember x (default: the solution) as the last linearization point:
@@ -661,7 +587,7 @@ class Model:
             # the residual at this state passed: keep SNES going on an
             # identity, the convergence test stops it (domain_error is set)
             self.domain_error = error or _cpp.GeometryError("domain error on another rank")
-        _, idx32, _ = self._owned_positions_constrained()
+        _, idx32, _ = self.constraint_set.owned_rows(self.load_factor)
         _cpp.add_diagonal(P, idx32, 1.0)
         P.assemble()
         if J != P:
@@ -721,7 +647,7 @@ class Model:
         dofs = self.layout.global_dofs("beam", nodes, owners).ravel().astype(np.int32)
         # the one constrained set (prescribed dofs and effects' constraints),
         # from every rank's local part
-        local = self._constrained_dofs.get("beam", np.zeros(0, dtype=np.int64))
+        local = self.constraint_set.dofs.get("beam", np.zeros(0, dtype=np.int64))
         unrolled = 9 * mesh.local_to_global[local // 9] + local % 9
         masked = dofs.copy()
         masked[np.concatenate(self.comm.allgather(unrolled)).astype(np.int64)] = -1
@@ -755,7 +681,7 @@ class Model:
         out = np.zeros(len(idx))
         l = self.mesh.global_to_local([g])[0]
         if 0 <= l < self.mesh.num_owned:
-            offs, _ = self._owned_constrained(self.load_factor)
+            offs, _ = self.constraint_set.owned(self.load_factor)
             for k, d in enumerate(idx):
                 hit = np.flatnonzero(offs == self.layout.offset("beam") + 9 * l + d)
                 if len(hit) == 0:
