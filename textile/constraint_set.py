@@ -111,21 +111,9 @@ class ConstraintSet:
         idx, vals = self.owned(t)
         cached = self._positions_cache
         if cached is None or cached[0] is not idx:
-            pos = self.owned_positions(idx)
+            pos = self.layout.owned_positions(idx)
             pos.setflags(write=False)
             idx32 = idx.astype(np.int32)
             idx32.setflags(write=False)
             cached = self._positions_cache = (idx, pos, idx32)
         return cached[1], cached[2], vals
-
-    def owned_positions(self, stacked_local: np.ndarray) -> np.ndarray:
-        """Map stacked local indices of owned dofs to positions in the owned
-        part of the global vector (fields' owned blocks are contiguous)."""
-        pos = np.empty_like(stacked_local)
-        start_owned = 0
-        for f in self.layout.fields:
-            off = self.layout.offset(f.name)
-            sel = (stacked_local >= off) & (stacked_local < off + f.size_local)
-            pos[sel] = stacked_local[sel] - off + start_owned
-            start_owned += f.size_local
-        return pos

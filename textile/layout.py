@@ -91,6 +91,18 @@ class DofLayout:
     def size_local(self) -> int:
         return sum(f.size_local for f in self.fields)
 
+    def owned_positions(self, stacked_local: np.ndarray) -> np.ndarray:
+        """Map stacked local indices of owned dofs to positions in the owned
+        part of the global vector (fields' owned blocks are contiguous)."""
+        pos = np.empty_like(stacked_local)
+        start_owned = 0
+        for f in self.fields:
+            off = self.offset(f.name)
+            sel = (stacked_local >= off) & (stacked_local < off + f.size_local)
+            pos[sel] = stacked_local[sel] - off + start_owned
+            start_owned += f.size_local
+        return pos
+
     @property
     def block_size(self) -> int:
         """The system matrix's block size: the largest that every field's

@@ -537,8 +537,8 @@ class Model:
 
     def owned_positions(self, stacked_local: np.ndarray) -> np.ndarray:
         """Map stacked local indices of owned dofs to positions in the owned
-        part of the global vector (ConstraintSet.owned_positions)."""
-        return self.constraint_set.owned_positions(stacked_local)
+        part of the global vector (DofLayout.owned_positions)."""
+        return self.layout.owned_positions(stacked_local)
 
     def set_linearization_point(self, x: PETSc.Vec | None = None) -> None:
         """Remember x (default: the solution) as the last linearization point:
