@@ -2,8 +2,8 @@
 
 What this demo shows
 --------------------
-The 2 x 2 plain weave of ``demo_plain_weave.py`` (yarns of 7 fibres side by
-side) is woven first (or read from a saved woven state, ``--woven``).
+The 2 x 2 plain weave of ``demo_plain_weave.py`` (7-fibre hexagonal bundles)
+is woven first (or read from a saved woven state, ``--woven``).
 Then the virtual bending test (``textile.virtual_tests.Bending`` with a
 matrix) adds a matrix around it (docs/method.md §7-8):
 
@@ -57,9 +57,9 @@ strain with perfectly bonded fibres. The demo fails (exit status 1) when
 the moment falls outside.
 
 Run: ``python3 demos/demo_composite_bending.py [--output DIR] [--woven FILE]
-[--fibres N] [--spacing S] [--angle DEG] [--steps N] [--size H] [--degree D]``
-(a minute or two on 2 cores; ``--fibres 1 --spacing 6`` for a quick
-monofilament variant).
+[--fibres N] [--packing P] [--spacing S] [--angle DEG] [--steps N] [--size H]
+[--degree D]`` (about a minute on 2 ranks from a saved woven state, two
+with the weave; ``--fibres 1 --spacing 6`` for a quick monofilament variant).
 """
 import argparse
 import math
@@ -76,6 +76,8 @@ parser.add_argument("--output", default=os.path.join(os.path.dirname(os.path.abs
                                                      "output", "demo_composite_bending"))
 parser.add_argument("--woven", default=None, help="a saved woven state of the same fabric")
 parser.add_argument("--fibres", type=int, default=7, help="fibres per yarn")
+parser.add_argument("--packing", default="hexagonal",
+                    help='fibres in the yarn section: "hexagonal", "layers 1" (flat), ...')
 parser.add_argument("--spacing", type=float, default=2.0, help="yarn spacing, in yarn widths")
 parser.add_argument("--angle", type=float, default=10.0, help="bending angle (degrees)")
 parser.add_argument("--steps", type=int, default=5, help="load steps of the bending")
@@ -89,11 +91,11 @@ comm = MPI.COMM_WORLD
 os.makedirs(args.output, exist_ok=True)
 
 # The fabric (as in demo_plain_weave.py): polyester fibres of 0.2 mm
-# diameter, E = 5 GPa, in flat yarns; the matrix an epoxy, E = 3 GPa.
+# diameter, E = 5 GPa, in bundles; the matrix an epoxy, E = 3 GPa.
 R = 0.1e-3
 fibre_material = textile.Material(5.0e9, 0.35)
 matrix_material = textile.Material(3.0e9, 0.35)
-yarn = Yarn(args.fibres, R, fibre_material, packing="layers 1")
+yarn = Yarn(args.fibres, R, fibre_material, packing=args.packing)
 fabric = Fabric(yarn, num_warp=2, num_weft=2, spacing=args.spacing * yarn.width,
                 pattern="plain", elements_per_crossing=4)
 

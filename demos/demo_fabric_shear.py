@@ -3,7 +3,8 @@ side moved parallel to itself.
 
 What this demo shows
 --------------------
-A 2 x 2 plain weave (flat yarns of ``--fibres`` fibres side by side) is
+A 2 x 2 plain weave (yarns of ``--fibres`` fibres packed as ``--packing``;
+by default the main demo's 7-fibre hexagonal bundles) is
 woven first (or read from a saved woven state, ``--woven``), then sheared
 twice from that state, once each way (docs/method.md §10):
 
@@ -33,8 +34,9 @@ What to look at
   (``positive/shear_fibres.txt`` ranks them).
 
 Run: ``python3 demos/demo_fabric_shear.py [--output DIR] [--woven FILE]
-[--fibres N] [--spacing S] [--shear U] [--steps N]`` (two or three minutes on 2
-cores; ``--fibres 1 --spacing 6`` for a quick monofilament variant).
+[--fibres N] [--packing P] [--spacing S] [--shear U] [--steps N]`` (about two
+minutes on 2 ranks, the weave included; ``--fibres 1 --spacing 6`` for a
+quick monofilament variant).
 """
 import argparse
 import os
@@ -50,7 +52,9 @@ parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--output", default=os.path.join(os.path.dirname(os.path.abspath(__file__)),
                                                      "output", "demo_fabric_shear"))
 parser.add_argument("--woven", default=None, help="a saved woven state of the same fabric")
-parser.add_argument("--fibres", type=int, default=3, help="fibres per yarn")
+parser.add_argument("--fibres", type=int, default=7, help="fibres per yarn")
+parser.add_argument("--packing", default="hexagonal",
+                    help='fibres in the yarn section: "hexagonal", "layers 1" (flat), ...')
 parser.add_argument("--spacing", type=float, default=2.0, help="yarn spacing, in yarn widths")
 parser.add_argument("--shear", type=float, default=0.2,
                     help="displacement of side xmax, in yarn spacings")
@@ -59,9 +63,10 @@ args = parser.parse_args()
 comm = MPI.COMM_WORLD
 os.makedirs(args.output, exist_ok=True)
 
-# The fabric: polyester fibres of 0.2 mm diameter, E = 5 GPa, in flat yarns.
+# The fabric: polyester fibres of 0.2 mm diameter, E = 5 GPa, in bundles
+# (friction 0.2 within a bundle, and between yarns in the virtual tests).
 R = 0.1e-3
-yarn = Yarn(args.fibres, R, textile.Material(5.0e9, 0.35), packing="layers 1")
+yarn = Yarn(args.fibres, R, textile.Material(5.0e9, 0.35), packing=args.packing)
 fabric = Fabric(yarn, num_warp=2, num_weft=2, spacing=args.spacing * yarn.width,
                 pattern="plain", elements_per_crossing=4)
 
