@@ -24,3 +24,11 @@ def plain_weave(material, radius, spacing=6.0, fibres=1, num_weft=2):
     yarn = Yarn(fibres, radius, material, packing="layers 1")
     return Fabric(yarn, num_warp=2, num_weft=num_weft, spacing=spacing * yarn.width,
                   pattern="plain", elements_per_crossing=4)
+
+
+def bundle_weave(material, radius, fibres):
+    """A 2 x 2 plain weave of hexagonal bundles of ``fibres`` fibres, 2 yarn
+    widths apart: the main demo's scene (7 fibres)."""
+    yarn = Yarn(fibres, radius, material, packing="hexagonal")
+    return Fabric(yarn, num_warp=2, num_weft=2, spacing=2 * yarn.width, pattern="plain",
+                  elements_per_crossing=4)

@@ -23,10 +23,9 @@ from mpi4py import MPI
 
 import textile
 from textile.effects.nodal_loads import ReleasedForces
-from textile.fabric import Fabric, Yarn
 from textile.virtual_tests import IncompleteTest, Shear, Tension
 
-from tests.woven_states import woven_once
+from tests.woven_states import bundle_weave, woven_once
 
 R = 0.1e-3
 FIBRE = textile.Material(5.0e9, 0.35)
@@ -37,9 +36,7 @@ STRAIN = 0.01
 
 
 def fabric():
-    yarn = Yarn(3, R, FIBRE, packing="hexagonal")
-    return Fabric(yarn, num_warp=2, num_weft=2, spacing=2 * yarn.width, pattern="plain",
-                  elements_per_crossing=4)
+    return bundle_weave(FIBRE, R, 3)
 
 
 @pytest.fixture(scope="module")

@@ -19,6 +19,7 @@ import textile
 from textile.virtual_tests import Bending, Shear, Tension, Twisting
 
 from tests.stability import guard
+from tests.virtual.curves import increments
 from tests.woven_states import plain_weave, woven_once
 
 R = 0.1e-3
@@ -39,11 +40,6 @@ def fabric():
 def woven(tmp_path_factory):
     """The woven state, saved."""
     return woven_once(tmp_path_factory, fabric(), QUIET)
-
-
-def increments(result):
-    x, y = result.curve.arrays()
-    return x - x[0], y - y[0]
 
 
 def test_uniaxial_tension(woven, tmp_path):

@@ -24,11 +24,12 @@ import pytest
 from mpi4py import MPI
 
 import textile
-from textile.fabric import Fabric, Yarn
+from textile.fabric import Yarn
 from textile.virtual_tests import Bending, Shear, Tension, Twisting
 
 from tests.stability import guard
-from tests.woven_states import woven_once
+from tests.virtual.curves import increments
+from tests.woven_states import bundle_weave, woven_once
 
 R = 0.1e-3
 FIBRE = textile.Material(5.0e9, 0.35)
@@ -41,19 +42,12 @@ WARP_FIBRES = 14
 
 
 def fabric():
-    yarn = Yarn(7, R, FIBRE, packing="hexagonal")
-    return Fabric(yarn, num_warp=2, num_weft=2, spacing=2 * yarn.width, pattern="plain",
-                  elements_per_crossing=4)
+    return bundle_weave(FIBRE, R, 7)
 
 
 @pytest.fixture(scope="module")
 def woven(tmp_path_factory):
     return woven_once(tmp_path_factory, fabric(), QUIET)
-
-
-def increments(result):
-    x, y = result.curve.arrays()
-    return x - x[0], y - y[0]
 
 
 def run(kind, woven, size, steps=2):
