@@ -24,7 +24,6 @@ import pytest
 from mpi4py import MPI
 
 import textile
-from textile.fabric import Yarn
 from textile.virtual_tests import Bending, Shear, Tension, Twisting
 
 from tests.stability import guard
@@ -97,7 +96,7 @@ def test_bending_lies_between_free_and_bonded_fibres(woven):
     x, y = increments(result)
     assert np.all(np.diff(x) > 0) and np.all(np.diff(y) > 0)
     own = WARP_FIBRES * FIBRE.young * math.pi * R ** 4 / 4
-    yarn = Yarn(7, R, FIBRE, packing="hexagonal")
+    yarn = fabric().yarn(0)
     heights = yarn.offsets[:, 1] - yarn.offsets[:, 1].mean()
     bonded = 2 * FIBRE.young * np.sum(math.pi * R ** 4 / 4 + math.pi * R ** 2 * heights ** 2)
     stiffness = result.figures["stiffness (moment per unit curvature)"]
