@@ -1,10 +1,21 @@
 """Shared pytest set-up: PETSc objects die on all ranks together, and a
 test failing on one rank of an mpirun stops every rank."""
 import gc
+import os
 import sys
 
-import pytest
-from mpi4py import MPI
+# A pytest-xdist worker inherits the environment of the controller, whose MPI
+# singleton (started by the import below, there too) wrote its identity into
+# it: an mpirun the worker launches then exits at once with status 1. Each
+# worker starts a singleton of its own instead.
+if "PYTEST_XDIST_WORKER" in os.environ:
+    _SINGLETON = ("PMIX_", "ORTE_", "OMPI_MCA_ess", "OMPI_MCA_orte_", "OMPI_MCA_pmix",
+                  "OMPI_APP_CTX_")
+    for _name in [k for k in os.environ if k.startswith(_SINGLETON)]:
+        del os.environ[_name]
+
+import pytest  # noqa: E402
+from mpi4py import MPI  # noqa: E402
 from petsc4py import PETSc
 
 
