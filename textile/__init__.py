@@ -27,12 +27,12 @@ from ._cpp import GeometryError  # noqa: E402
 from .beam.element import BeamElement  # noqa: E402
 from .beam.fibre import Fibre, arc_fibre, straight_fibre  # noqa: E402
 from .beam.material import Material  # noqa: E402
-from .model import Model  # noqa: E402
+from .scene.model import Model  # noqa: E402
 from .io.state_file import (SceneMismatchError, StateFileError, load_fibres,  # noqa: E402
                             load_state, save_state, saved_configuration)
-from .loading import Stage  # noqa: E402
-from .output import Output  # noqa: E402
-from .rigid_body import RigidBody  # noqa: E402
+from .scene.loading import Stage  # noqa: E402
+from .io.output import Output  # noqa: E402
+from .scene.rigid_body import RigidBody  # noqa: E402
 from .solver import ConvergenceError, Solver, SolverOptions  # noqa: E402
 
 __all__ = ["BeamElement", "Fibre", "Material", "Model", "Solver", "SolverOptions",

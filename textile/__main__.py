@@ -58,7 +58,7 @@ def main(argv=None, comm=None) -> int:
 
     from .io.state_file import SceneMismatchError, StateFileError
     from .log import get_logger
-    from .scene_file import SceneError, read_scene
+    from .scene.scene_file import SceneError, read_scene
     from .solver import ConvergenceError
     comm = MPI.COMM_WORLD if comm is None else comm
 

@@ -5,7 +5,7 @@ never by reading the scene's flags.
 - no matrix: neither gmsh nor dolfinx's Python layer (fem, mesh, UFL, FFCx)
   is imported; only dolfinx's compiled core (index maps, sparsity patterns,
   block vectors: the global system's layout) is loaded
-  (textile.dolfinx_core); the matrix block's, contact's and rigid bodies'
+  (textile.system.dolfinx_core); the matrix block's, contact's and rigid bodies'
   modules are not even imported;
 - no contact: no detection, no contact set, no coupling pattern, no penalty
   adaptation is made (every C++ entry point counted);

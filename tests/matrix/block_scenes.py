@@ -29,7 +29,7 @@ def block_model(comm, block, force_scale=1.0):
     the convergence test's absolute scale: give it the block's force scale).
     Four elements, so that each of two ranks owns some: a rank without beam
     elements skips the beam's sparsity block, whose creation is collective
-    (textile.layout.SparsityBuilder.pattern), and the set-up hangs."""
+    (textile.system.layout.SparsityBuilder.pattern), and the set-up hangs."""
     R = 0.1
     E = force_scale / (np.pi * R ** 2)
     fibre = textile.straight_fibre([100, 0, 0], [101, 0, 0], R, textile.Material(E, 0.3),

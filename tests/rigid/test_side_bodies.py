@@ -19,7 +19,7 @@ import pytest
 from mpi4py import MPI
 
 import textile
-from textile.block_nodes import BlockNodes
+from textile.scene.block_nodes import BlockNodes
 from textile.effects.elastic_block import ElasticBlock
 from textile.effects.fibre_matrix_junction import FibreMatrixJunctions
 from textile.composite.matrix_mesh import box_mesh

@@ -1,4 +1,4 @@
-"""Scene files (textile/scene_file.py, docs/scene_files.md) and the command
+"""Scene files (textile/scene/scene_file.py, docs/scene_files.md) and the command
 line ``python3 -m textile run``.
 
 - every demo's scene file in demos/scenes/ is valid, and every demo has one;
@@ -118,7 +118,7 @@ def test_every_demo_has_a_scene_file():
 
 @pytest.mark.parametrize("name", sorted(DEMO_SCENES.values()))
 def test_scene_file_is_valid(name):
-    from textile.scene_file import read_scene
+    from textile.scene.scene_file import read_scene
     scene = read_scene(os.path.join(SCENES, name))
     assert scene.kind in ("weave", "virtual_test", "fibres")
     # the demos' outputs go to demos/output/ (ignored by git)
@@ -292,7 +292,7 @@ def test_twisted_pair_scene_is_the_demos_pair(tmp_path):
 
 # -- errors name the file and the key's path --------------------------------------
 def refused(tmp_path, data, *messages):
-    from textile.scene_file import SceneError, read_scene
+    from textile.scene.scene_file import SceneError, read_scene
     path = write_toml(tmp_path / "scene.toml", data)
     with pytest.raises(SceneError) as error:
         read_scene(path)
@@ -326,7 +326,7 @@ def test_wrong_type(tmp_path):
     data["weaving"]["drag"] = 0.1
     data["weaving"]["lifting_drag"] = 0.2
     write_toml(tmp_path / "drag.toml", data)
-    from textile.scene_file import read_scene
+    from textile.scene.scene_file import read_scene
     options = read_scene(str(tmp_path / "drag.toml")).weaving_options()
     assert options["drag"] == 0.1 and options["lifting_drag"] == 0.2
 
@@ -379,7 +379,7 @@ def test_preset_sets_the_knobs_the_file_does_not(tmp_path):
     """scene.preset (textile.presets) fills every knob the file leaves out;
     the file's own keys win; no preset is "standard", today's defaults."""
     from textile import presets
-    from textile.scene_file import read_scene
+    from textile.scene.scene_file import read_scene
     data = scene_of("plain_weave.toml")
     del data["fabric"]["elements_per_crossing"], data["weaving"]["steps"]
     data["weaving"]["contact"] = {"friction": 0.2}
@@ -406,7 +406,7 @@ def test_preset_sets_the_knobs_the_file_does_not(tmp_path):
 def test_draft_preset_weaves_in_its_steps(tmp_path):
     """A weave scene with preset "draft" runs its 3 weaving steps (the
     file gives none) and 1 relaxation step, on 2 elements a crossing."""
-    from textile.scene_file import read_scene
+    from textile.scene.scene_file import read_scene
     data = scene_of("plain_weave.toml")
     del data["fabric"]["elements_per_crossing"], data["weaving"]["steps"]
     data["fabric"]["yarn"]["fibres"], data["fabric"]["spacing_widths"] = 1, 6.0
@@ -421,7 +421,7 @@ def test_draft_preset_weaves_in_its_steps(tmp_path):
 
 def test_api_errors_are_named_by_their_table(tmp_path):
     """An error the objects raise when built is named by the table's path."""
-    from textile.scene_file import SceneError, read_scene
+    from textile.scene.scene_file import SceneError, read_scene
     data = scene_of("plain_weave.toml")
     data["fabric"]["pattern"] = "satin 1"
     scene = read_scene(write_toml(tmp_path / "scene.toml", data))
@@ -453,7 +453,7 @@ def test_two_ranks_give_the_one_rank_answer(tmp_path_factory):
     rank. On one rank the command runs under mpirun in a subprocess; under
     mpirun (the mpi tests) the command line runs here on both ranks."""
     from textile.__main__ import main
-    from textile.scene_file import read_scene
+    from textile.scene.scene_file import read_scene
     comm = MPI.COMM_WORLD
     sets = ["--set", "fibres[0].elements=8", "--set", "fibres[1].elements=8"]
     base = comm.bcast(str(tmp_path_factory.mktemp("mpi")) if comm.rank == 0 else None)

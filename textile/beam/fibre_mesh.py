@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..dolfinx_core import load as _load_core
+from ..system.dolfinx_core import load as _load_core
 from .fibre import Fibre
 
-_cpp = _load_core()   # dolfinx's compiled core alone (textile.dolfinx_core)
+_cpp = _load_core()   # dolfinx's compiled core alone (textile.system.dolfinx_core)
 
 #: Names of a node's 9 unknowns, in storage order.
 DOF_NAMES = ("x", "y", "z", "g1x", "g1y", "g1z", "g2x", "g2y", "g2z")

@@ -8,7 +8,7 @@
 The physics are effects: :mod:`textile.effects.elastic_block` (the
 matrix), :mod:`textile.effects.fibre_matrix_junction` (the junctions) and
 :mod:`textile.effects.rigid_bodies` (side bodies, holding the matrix's
-nodes named by :class:`textile.block_nodes.BlockNodes`). A scene of fibres
+nodes named by :class:`textile.scene.block_nodes.BlockNodes`). A scene of fibres
 alone imports nothing of this package (no gmsh, no dolfinx).
 
 :class:`Composite` is imported on first use (``from textile.composite

@@ -37,7 +37,7 @@ from mpi4py import MPI
 
 from .. import presets
 from ..beam.material import Material
-from ..block_nodes import BlockNodes
+from ..scene.block_nodes import BlockNodes
 from ..effects.elastic_block import DEGREES, LAWS, ElasticBlock
 from ..effects.fibre_matrix_junction import FibreMatrixJunctions
 from ..fabric.fabric import Fabric

@@ -147,7 +147,7 @@ class Effect:
         return False
 
     def configure(self, **options) -> None:
-        """Options set by a stage (:class:`textile.loading.Stage`), e.g. the
+        """Options set by a stage (:class:`textile.scene.loading.Stage`), e.g. the
         contact mode; effects without stage options refuse any."""
         if options:
             raise ValueError(f"{type(self).__name__} takes no stage options, got "
@@ -183,7 +183,7 @@ class Effect:
 
     # -- loading and stability ---------------------------------------------
     def schedules(self) -> list:
-        """The effect's loading schedules (:class:`textile.loading.Schedule`:
+        """The effect's loading schedules (:class:`textile.scene.loading.Schedule`:
         its prescriptions and loads), which stages ramp, hold and release
         and saved states write. The model lists them after its own
         prescribed displacements (Model.schedules), whenever it needs them:
@@ -226,7 +226,7 @@ class Effect:
         when the file has none, or state_name is None). Collective. Default:
         nothing, the effect starts afresh."""
 
-    # -- output (textile.output.Output) ------------------------------------
+    # -- output (textile.io.output.Output) ------------------------------------
     #: Name of the effect's own ParaView part (``<vtk_name>/`` and
     #: ``<vtk_name>.pvd`` next to the fibres, a part of ``scene.pvd``),
     #: None if it writes none; then write_vtk is never called.

@@ -43,7 +43,7 @@ from dolfinx import mesh as _mesh
 from mpi4py import MPI
 
 from .. import _cpp
-from ..layout import Field
+from ..system.layout import Field
 from ..composite.matrix_mesh import MatrixMesh
 from .base import Effect, State
 

@@ -5,7 +5,7 @@ import numpy as np
 from mpi4py import MPI
 
 from .. import _cpp
-from ..loading import Handle, Schedule
+from ..scene.loading import Handle, Schedule
 from .base import Effect, State
 
 
@@ -15,7 +15,7 @@ class NodalForces(Effect):
     ``add(node, dofs, values)`` adds a force on unknowns ``dofs`` of global
     ``node`` (N for x0 components; N times length-unit for section
     vectors), reached at the end of the first stage (see
-    :mod:`textile.loading`).
+    :mod:`textile.scene.loading`).
     """
 
     fields = ("beam",)

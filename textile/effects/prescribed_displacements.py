@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..loading import Handle, Schedule
+from ..scene.loading import Handle, Schedule
 from .base import Effect
 
 

@@ -8,7 +8,7 @@ Fields:
   accepted step theta is folded into R_n and reset to zero, so the unknowns
   stay small and smooth whatever the total rotation (a turn of 2 pi brings
   R back to the identity to round-off). All bodies are owned by rank 0 and
-  ghosted on the others. Member bodies (nesting, :mod:`textile.rigid_body`)
+  ghosted on the others. Member bodies (nesting, :mod:`textile.scene.rigid_body`)
   have no unknowns: their parent holds what they hold.
 - ``rigid_multipliers``: Lagrange multipliers of the couplings, one per
   constraint row (block size 1): 9 per held section (x0, g1, g2), 3 per pin
@@ -41,13 +41,13 @@ import numpy as np
 from mpi4py import MPI
 
 from .. import _cpp
-from ..block_nodes import select_block_nodes
-from ..dolfinx_core import load as _load_core
-from ..layout import Field
-from ..rigid_body import BODY_DOFS, RigidBody
+from ..scene.block_nodes import select_block_nodes
+from ..system.dolfinx_core import load as _load_core
+from ..system.layout import Field
+from ..scene.rigid_body import BODY_DOFS, RigidBody
 from .base import Effect, State
 
-_dcpp = _load_core()   # dolfinx's compiled core alone (textile.dolfinx_core)
+_dcpp = _load_core()   # dolfinx's compiled core alone (textile.system.dolfinx_core)
 
 #: Coupling kinds (the third entry of saved coupling keys).
 PIN, SECTION, BLOCK_NODE = 0, 1, 2

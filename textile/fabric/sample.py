@@ -48,10 +48,10 @@ from ..effects.nodal_loads import ReleasedForces
 from .fabric import Fabric
 from ..io import fabric_labels
 from ..io.state_file import load_fibres, saved_configuration
-from ..loading import Stage
-from ..model import Model
-from ..output import Output
-from ..rigid_body import RigidBody
+from ..scene.loading import Stage
+from ..scene.model import Model
+from ..io.output import Output
+from ..scene.rigid_body import RigidBody
 
 #: The sides a body can drive, with the yarn direction ending there and which end.
 SIDES = {"xmin": ("warp", 0), "xmax": ("warp", -1), "ymin": ("weft", 0), "ymax": ("weft", -1)}
@@ -367,7 +367,7 @@ class Sample:
                      solver=dict(initial_step=1.0 / steps, max_step=1.0 / steps))
 
     def output(self, directory: str, **options) -> Output:
-        """An :class:`~textile.output.Output` writing fibres (with their yarn)
+        """An :class:`~textile.io.output.Output` writing fibres (with their yarn)
         (and the matrix) every step, and the fabric's figures."""
         return Output(directory, **fabric_labels(self.fabric),
                       extra=lambda model: measures.summary(self.fabric, model), **options)

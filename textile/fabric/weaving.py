@@ -43,11 +43,11 @@ from ..effects.weaving_contact import weaving_mode
 from .fabric import Fabric
 from ..io import fabric_labels
 from ..io.state_file import save_state
-from ..loading import Stage
+from ..scene.loading import Stage
 from ..log import get_logger
-from ..model import Model
-from ..output import Output
-from ..rigid_body import RigidBody
+from ..scene.model import Model
+from ..io.output import Output
+from ..scene.rigid_body import RigidBody
 from ..solver import Solver
 
 
@@ -331,7 +331,7 @@ class Weaving:
         return [lifting, settling, fading, relaxation]
 
     def output(self, directory: str, **options) -> Output:
-        """An :class:`~textile.output.Output` that also writes each fibre's
+        """An :class:`~textile.io.output.Output` that also writes each fibre's
         yarn and the fabric's figures (crimp, shrinkage, ...) every step."""
         return Output(directory, **fabric_labels(self.fabric),
                       extra=lambda model: measures.summary(self.fabric, model), **options)

@@ -29,7 +29,7 @@ the number of MPI ranks that wrote or read it (version 2):
     kernels' reference values (node coordinates, body centres) that
     identify the scene.
 ``/schedules/<k> <name>/{start,target,active,following,current}``
-    Every loading quantity's stage values (:mod:`textile.loading`); which
+    Every loading quantity's stage values (:mod:`textile.scene.loading`); which
     components followed a callable of the load factor, and their values at
     the saved load factor.
 ``/effects/<name>/...``

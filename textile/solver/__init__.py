@@ -45,7 +45,7 @@ from typing import TYPE_CHECKING
 from petsc4py import PETSc
 
 from .. import _cpp  # noqa: F401 (re-exported: textile.solver's names as before the split)
-from ..loading import Stage  # noqa: F401
+from ..scene.loading import Stage  # noqa: F401
 from ..options import Options  # noqa: F401
 from ..stability.inertia import (Inertia, critical_modes, factor_negative_pivots,  # noqa: F401
                                  zero_motion_pivots)
@@ -64,7 +64,7 @@ from .stages import STAGE_OPTIONS, Stages
 from .stepping import StepControl, Stepping  # noqa: F401
 
 if TYPE_CHECKING:  # the model imports .convergence, so this package, first
-    from ..model import Model
+    from ..scene.model import Model
 
 
 class Solver:
@@ -77,7 +77,7 @@ class Solver:
     options:
         :class:`SolverOptions` or a dict of its fields.
     output:
-        Optional :class:`~textile.output.Output` (ParaView files, results.json)
+        Optional :class:`~textile.io.output.Output` (ParaView files, results.json)
         written after every converged step.
     on_step:
         Optional callable ``(solver, record)`` after each converged step,
@@ -192,7 +192,7 @@ class Solver:
         return self.stepping.solve(t_end)
 
     def run(self, stages) -> list[StepRecord]:
-        """Run a sequence of :class:`textile.loading.Stage`, each from load
+        """Run a sequence of :class:`textile.scene.loading.Stage`, each from load
         factor 0 to 1, continuing from the state the previous one left."""
         return self.stepping.run(stages)
 

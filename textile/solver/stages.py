@@ -1,7 +1,7 @@
 """Stages and saved states: stages run one after another, each from load
 factor 0 to 1 from the state the previous one left, with its own solver
 options (:data:`STAGE_OPTIONS`) and the scene's changes of
-:class:`textile.loading.Stage`; a run saved within a stage
+:class:`textile.scene.loading.Stage`; a run saved within a stage
 (:mod:`textile.io.state_file`) goes on as the saving run would have.
 """
 from __future__ import annotations
@@ -11,7 +11,7 @@ import dataclasses
 import numpy as np
 from petsc4py import PETSc
 
-from ..loading import Stage
+from ..scene.loading import Stage
 from .options import StepRecord
 from .stepping import Stepping
 
@@ -27,7 +27,7 @@ class Stages(Stepping):
     STAGE_OPTIONS = STAGE_OPTIONS
 
     def run(self, stages) -> list[StepRecord]:
-        """Run a sequence of :class:`textile.loading.Stage`, each from load
+        """Run a sequence of :class:`textile.scene.loading.Stage`, each from load
         factor 0 to 1, continuing from the state the previous one left."""
         stages = list(stages)
         for k, stage in enumerate(stages):

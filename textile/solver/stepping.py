@@ -15,7 +15,7 @@ import time
 import numpy as np
 from petsc4py import PETSc
 
-from ..loading import Stage
+from ..scene.loading import Stage
 from .contact_loop import ContactLoop
 from .options import ConvergenceError, SolverOptions, StepRecord, say
 from .stability_check import StabilityCheck

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from ..model import Model
+from ..scene.model import Model
 from ..solver import Solver
 
 

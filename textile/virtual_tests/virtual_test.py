@@ -22,7 +22,7 @@ from .. import presets
 from ..composite.composite import Composite
 from ..beam.fibre_loads import FIGURES, fibre_loads, ranked_table
 from ..fabric.fabric import Fabric
-from ..loading import Stage
+from ..scene.loading import Stage
 from ..beam.material import Material
 from ..fabric.sample import Sample
 from ..solver import ConvergenceError, Solver

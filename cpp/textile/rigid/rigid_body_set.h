@@ -1,6 +1,6 @@
 // All rigid bodies of a scene and their couplings, assembled together.
 //
-// Unknowns (local arrays of the stacked layout, textile/layout.py):
+// Unknowns (local arrays of the stacked layout, textile/system/layout.py):
 //  - fibre nodes: 9 per local node [x0, g1, g2] displacements, reference X;
 //  - bodies: 6 per body [u, theta] (centre displacement, incremental
 //    rotation vector, rotation.h), reference centres C;

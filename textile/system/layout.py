@@ -25,7 +25,7 @@ from petsc4py import PETSc
 
 from .dolfinx_core import load as _load_core
 
-_cpp = _load_core()   # dolfinx's compiled core alone (textile.dolfinx_core)
+_cpp = _load_core()   # dolfinx's compiled core alone (textile.system.dolfinx_core)
 
 
 @dataclass

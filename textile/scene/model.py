@@ -1,6 +1,6 @@
 """A scene and its monolithic system: fibres, constraints, loads, effects.
 
-The model owns the stacked layout of all fields (see :mod:`textile.layout`),
+The model owns the stacked layout of all fields (see :mod:`textile.system.layout`),
 the global matrix and vectors, and evaluates residual and tangent for the
 PETSc SNES by summing the effects the scene has.
 """
@@ -12,17 +12,17 @@ import numpy as np
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from . import _cpp
-from .beam.element import BeamElement
-from .beam.fibre import Fibre
-from .beam.fibre_mesh import FibreMesh, dof_indices
-from .effects import BeamElasticity, EndMoments, NodalForces, State
-from .effects.base import Effect
-from .effects.prescribed_displacements import PrescribedDisplacements
-from .constraint_set import ConstraintSet
-from .layout import DofLayout, Field, SparsityBuilder
+from .. import _cpp
+from ..beam.element import BeamElement
+from ..beam.fibre import Fibre
+from ..beam.fibre_mesh import FibreMesh, dof_indices
+from ..effects import BeamElasticity, EndMoments, NodalForces, State
+from ..effects.base import Effect
+from ..effects.prescribed_displacements import PrescribedDisplacements
+from ..system.constraint_set import ConstraintSet
+from ..system.layout import DofLayout, Field, SparsityBuilder
 from .loading import Handle, Schedule
-from .solver.convergence import ResidualGroups
+from ..solver.convergence import ResidualGroups
 
 
 class Model:
@@ -83,7 +83,7 @@ class Model:
         the end of the first stage, ramped from 0 (scalar or one per dof), or
         a callable ``s -> values`` of the load factor. Returns the handle
         with which stages ramp or release the prescription
-        (:mod:`textile.loading`). Fixing a dof again replaces its value.
+        (:mod:`textile.scene.loading`). Fixing a dof again replaces its value.
         """
         self._check_open()
         idx = dof_indices(dofs)
@@ -129,7 +129,7 @@ class Model:
         """Add a :class:`textile.RigidBody` (its unknowns, couplings, loads)."""
         self._check_open()
         if self._rigid is None:
-            from .effects.rigid_bodies import RigidBodies
+            from ..effects.rigid_bodies import RigidBodies
 
             self._rigid = RigidBodies()
             self._effects.append(self._rigid)
@@ -158,7 +158,7 @@ class Model:
         return out
 
     def begin_stage(self, stage) -> bool:
-        """Apply a :class:`textile.loading.Stage` (targets, releases, effect
+        """Apply a :class:`textile.scene.loading.Stage` (targets, releases, effect
         options) at the current state, load factor 0. Returns True when the
         set of prescribed unknowns changed (the system matrix is then new)."""
         self.setup()

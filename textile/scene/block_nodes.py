@@ -30,7 +30,7 @@ class BlockNodes:
     """
 
     def __init__(self, block, where):
-        from .effects.elastic_block import ElasticBlock
+        from ..effects.elastic_block import ElasticBlock
 
         if not isinstance(block, ElasticBlock):
             raise TypeError(f"BlockNodes: block must be an ElasticBlock, got "

@@ -29,14 +29,14 @@ import math
 import os
 import tomllib
 
-from . import presets
-from .log import get_logger
+from .. import presets
+from ..log import get_logger
 
 _log = get_logger(__name__)
 KINDS = ("weave", "virtual_test", "fibres")
 TEST_TYPES = ("tension", "shear", "bending", "twisting", "picture_frame")
 REQUIRED = object()
-#: the names of a rigid body's components (textile.rigid_body)
+#: the names of a rigid body's components (textile.scene.rigid_body)
 BODY_DOFS = ("x", "y", "z", "rx", "ry", "rz")
 BODY_GROUPS = ("all", "translation", "rotation")
 
@@ -233,8 +233,8 @@ def _given(d: dict) -> dict:
 
 # -- the schema ------------------------------------------------------------------
 def _schema():
-    from .effects.fibre_contact import ContactOptions
-    from .solver import Solver, SolverOptions
+    from ..effects.fibre_contact import ContactOptions
+    from ..solver import Solver, SolverOptions
     contact = table(_options_spec(ContactOptions))
     solver = table(_options_spec(SolverOptions))
     stage_solver = table(_options_spec(SolverOptions, Solver.STAGE_OPTIONS))
@@ -546,7 +546,7 @@ def _check_fibres(reader, scene, materials):
             reader.fail(path, f"handle {_show(name)} is defined twice")
         handles[name] = (kind, size)
 
-    from .beam.fibre_mesh import dof_indices
+    from ..beam.fibre_mesh import dof_indices
     for i, load in enumerate(scene["loads"] or []):
         path = f"loads[{i}]"
         fibre_node(_key(path, "fibre"), load["fibre"], load["node"])
@@ -647,7 +647,7 @@ def _check_fibres(reader, scene, materials):
 
 def _options(reader, path, options):
     """An Options table built once, so a bad value is named here."""
-    from .effects.fibre_contact import ContactOptions
+    from ..effects.fibre_contact import ContactOptions
     try:
         ContactOptions.from_dict(_given(options))
     except (TypeError, ValueError) as error:
@@ -664,7 +664,7 @@ def _check_output(reader, scene, kind):
             reader.fail(f"output.{key}", f"not available in a {_show(kind)} scene (only "
                                          f"{', '.join(map(_show, kinds))})")
     if scene["solver"] is not None:
-        from .solver import SolverOptions
+        from ..solver import SolverOptions
         try:
             SolverOptions.from_dict(_given(scene["solver"]))
         except (TypeError, ValueError) as error:
@@ -732,7 +732,7 @@ class Scene:
 
     # -- the parts ---------------------------------------------------------------
     def materials(self) -> dict:
-        from .beam.material import Material
+        from ..beam.material import Material
         out = {}
         for name, m in (self.data["materials"] or {}).items():
             with self._building(f"materials.{name}"):
@@ -740,8 +740,8 @@ class Scene:
         return out
 
     def fabric(self):
-        from .fabric.fabric import Fabric
-        from .fabric.yarn import Yarn
+        from ..fabric.fabric import Fabric
+        from ..fabric.yarn import Yarn
         d, materials = self.data["fabric"], self.materials()
         yarns = {}
         for key in ("yarn", "weft_yarn"):
@@ -802,7 +802,7 @@ class Scene:
 
     def _checkpoint(self, directory):
         """An on_step that saves the state as [output] checkpoint says."""
-        from .io.state_file import save_state
+        from ..io.state_file import save_state
         mode = self.data["output"]["checkpoint"] or "stage"
         if mode == "none":
             return None
@@ -826,7 +826,7 @@ class Scene:
     @staticmethod
     def _run_stages(solver, stages, resumed):
         """Run ``stages`` (after a resume: those left) as Solver.run does."""
-        from .io.state_file import load_state
+        from ..io.state_file import load_state
         start = 0
         if resumed is not None:
             attrs = load_state(solver.model, resumed, solver)
@@ -847,9 +847,9 @@ class Scene:
             solver.run_stage(stages[k])
 
     def _run_weave(self, directory, resume, comm):
-        from .io.state_file import save_state
-        from .solver import Solver
-        from .fabric.weaving import Weaving
+        from ..io.state_file import save_state
+        from ..solver import Solver
+        from ..fabric.weaving import Weaving
         fabric = self.fabric()
         with self._building("weaving"):
             weaving = Weaving(fabric, comm=comm, **self.weaving_options())
@@ -864,8 +864,8 @@ class Scene:
         return dict(steps=solver.position()["steps"], figures=summary, woven=woven)
 
     def _run_test(self, directory, resume, comm):
-        from . import virtual_tests
-        from .fabric.weaving import woven_state
+        from .. import virtual_tests
+        from ..fabric.weaving import woven_state
         test = self.data["test"]
         fabric = self.fabric()
         woven = self.path(test["woven"]) if test["woven"] else None
@@ -937,14 +937,14 @@ class Scene:
     def _run_fibres(self, directory, resume, comm):
         import numpy as np
 
-        from .effects.fibre_contact import FibreContact
-        from .effects.viscous_drag import ViscousDrag
-        from .beam.fibre import straight_fibre
+        from ..effects.fibre_contact import FibreContact
+        from ..effects.viscous_drag import ViscousDrag
+        from ..beam.fibre import straight_fibre
         from .loading import Stage
         from .model import Model
-        from .output import Output
+        from ..io.output import Output
         from .rigid_body import RigidBody
-        from .solver import Solver
+        from ..solver import Solver
         d, materials = self.data, self.materials()
         fibres, index = [], {}
         for i, f in enumerate(d["fibres"]):

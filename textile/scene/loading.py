@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .effects.base import Effect
+from ..effects.base import Effect
 
 
 class Handle:
@@ -177,7 +177,7 @@ def _check_solver_options(label: str, options: dict) -> None:
     order against the run's own step sizes is checked when the stage
     starts). A bad value found only then stopped the run for good: the
     stage was already begun."""
-    from .solver import Solver, SolverOptions   # the solver imports this module
+    from ..solver import Solver, SolverOptions   # the solver imports this module
     unknown = sorted(set(options) - Solver.STAGE_OPTIONS)
     if unknown:
         raise ValueError(f"{label}: solver options {unknown} cannot change between stages; "

@@ -41,9 +41,9 @@ from collections.abc import Mapping
 import numpy as np
 from mpi4py import MPI
 
-from .beam.fibre_loads import (FIGURES, element_loads, fibre_maxima, gathered_element_fields,
-                               top_fibres)
-from .io import PVDSeries, ResultsLog, SceneSeries, write_fibres_vtu
+from ..beam.fibre_loads import (FIGURES, element_loads, fibre_maxima, gathered_element_fields,
+                                top_fibres)
+from . import PVDSeries, ResultsLog, SceneSeries, write_fibres_vtu
 
 _VOIGT = ("11", "22", "33", "23", "13", "12")
 # arrays Output writes itself: a fibre_data array may not take their names
@@ -96,7 +96,7 @@ class Output:
         self.picture_size = tuple(picture_size)
         self._yarn_axes = None
         if yarn_directions is not None:
-            from .io.sample_pictures import yarn_axes
+            from .sample_pictures import yarn_axes
             self._yarn_axes = yarn_axes(yarn_directions)
             missing = set(np.unique(self.fibre_data.get("yarn", [])).tolist()) \
                 - set(self._yarn_axes)
@@ -341,8 +341,8 @@ class Output:
     def _draw(self, step: int, vtu: str, suffix: str = "") -> None:
         """Pictures of step ``step`` from its fibres file ``vtu`` (rank 0);
         failures are warnings."""
-        from .io.render import RenderingWarning
-        from .io.sample_pictures import draw_vtu_pictures
+        from .render import RenderingWarning
+        from .sample_pictures import draw_vtu_pictures
         try:
             drawn, errors = draw_vtu_pictures(vtu, self.directory, self._yarn_axes, suffix,
                                               self.picture_size)
@@ -369,7 +369,7 @@ class Output:
         lines = self.centrelines(model)
         path = os.path.join(self.directory, filename)
         if model.comm.rank == 0:
-            from .io import plot_fibres
+            from . import plot_fibres
             os.makedirs(self.directory, exist_ok=True)
             ref = [f.points for f in model.mesh.fibres]
             plot_fibres(path, lines, title=title, reference=ref, view=view)

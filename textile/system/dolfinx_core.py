@@ -1,7 +1,7 @@
 """dolfinx's compiled core, ``dolfinx.cpp``, without dolfinx's Python layer.
 
 The global system is laid out with dolfinx's index maps, sparsity patterns
-and block vectors (:mod:`textile.layout`), which live in the compiled
+and block vectors (:mod:`textile.system.layout`), which live in the compiled
 module ``dolfinx.cpp``. Importing it the ordinary way runs the package's
 ``__init__``, which imports the whole Python layer (fem, mesh, io, jit) and
 with it UFL, FFCx and basix: about 0.1 s and 20 MB that only a matrix block

@@ -11,7 +11,7 @@ for any total rotation; :mod:`textile.effects.rigid_bodies`). It holds
 - *member bodies* (nesting: e.g. a side of a sample gathers the bodies at
   the ends of the yarns on that side), and
 - *block nodes* (nodes of an elastic matrix block, e.g. its end face, that
-  follow the body in position: :class:`~textile.block_nodes.BlockNodes`).
+  follow the body in position: :class:`~textile.scene.block_nodes.BlockNodes`).
 
 Nesting: when the model is assembled, a body takes over the sections, pins
 and block nodes of its members (recursively) as if it held them directly.
@@ -41,7 +41,7 @@ Each component is either prescribed (a displacement, or a rotation angle
 about the fixed global axis x, y or z, reached at the end of the first
 stage or given as a callable of the load factor) or free and loaded by a
 dead force or a moment fixed in space. Both live in schedules
-(:mod:`textile.loading`): later stages ramp, hold or release them through the
+(:mod:`textile.scene.loading`): later stages ramp, hold or release them through the
 handles that ``prescribe``, ``add_force`` and ``add_moment`` return. Prescribed rotations are
 accumulated as increments about the fixed global axes, step by step: exact
 for rotations about one axis, of any size. The body's reaction (the force
@@ -99,7 +99,7 @@ class RigidBody:
         over when the model is assembled (they must have no prescriptions or
         loads of their own).
     block_nodes:
-        A :class:`~textile.block_nodes.BlockNodes` (or a list of them): nodes
+        A :class:`~textile.scene.block_nodes.BlockNodes` (or a list of them): nodes
         of an elastic block that follow the body in position.
     slide:
         None (hold fully), or the normal (3,) of a frictionless plate: hold
@@ -126,7 +126,7 @@ class RigidBody:
             block_nodes = [block_nodes]
         self.block_nodes = list(block_nodes)
         if not all(isinstance(b, BlockNodes) for b in self.block_nodes):
-            raise TypeError(f"RigidBody {name!r}: block_nodes must be textile.block_nodes."
+            raise TypeError(f"RigidBody {name!r}: block_nodes must be textile.scene.block_nodes."
                             f"BlockNodes objects")
         if not (self.sections or self.pins or self.bodies or self.block_nodes):
             raise ValueError(f"RigidBody {name!r} holds nothing: give sections, pins, bodies "
