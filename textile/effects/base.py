@@ -62,13 +62,15 @@ class Effect:
     Subclasses override what they need. ``fields`` names the fields whose
     blocks the effect writes into.
 
-    Every hook the model, the solver, saved states and the output call is
+    Every hook the system, the solver, saved states and the output call is
     declared here with its contract and a neutral default (they call it on
     every effect, never asking whether an effect has it): an effect that
     overrides nothing adds nothing to the system, has no schedules, no
-    multipliers, no saved state and no output of its own. An effect changes
-    the model only through the model's public methods (e.g.
-    ``Model.request_matrix_rebuild``, ``Model.set_field_values``).
+    multipliers, no saved state and no output of its own. The hooks' ``model``
+    argument is the scene's assembled :class:`~textile.system.system.System`
+    (its mesh, communicator, element, layout, unknowns); an effect changes
+    it only through its public methods (e.g.
+    ``System.request_matrix_rebuild``, ``System.set_field_values``).
     """
 
     #: Field names the effect couples (rows and columns).

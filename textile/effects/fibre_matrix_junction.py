@@ -273,7 +273,7 @@ class FibreMatrixJunctions(Effect):
 
     # -- Effect interface -------------------------------------------------
     def setup(self, model) -> None:
-        if model is not self._model:
+        if model.mesh is not self._model.mesh:   # model: the scene's System
             raise ValueError("FibreMatrixJunctions: the junctions belong to another model")
         effects = model.effects
         if self.block not in effects or effects.index(self.block) > effects.index(self):

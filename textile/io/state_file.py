@@ -336,7 +336,7 @@ def _check_effects(model, data: dict, path: str) -> dict:
     message = None
     for name, e in effects.items():
         try:   # every rank calls every check: some are collective
-            e.check_state(model, saved[name])
+            e.check_state(model.system, saved[name])
         except ValueError as exc:
             message = message or f"{path}: {exc}"
     _collective(model.comm, message)
@@ -381,7 +381,8 @@ def save_state(model, path: str, solver=None, fibre_data=None) -> None:
     references = model.reference_values()
     fields = {f.name: _gather_field(model, f.name, vectors, references[f.name])
               for f in model.layout.fields}
-    effects = {name: e.save_state(model) for name, e in _stateful(model).items()}  # collective
+    system = model.system
+    effects = {name: e.save_state(system) for name, e in _stateful(model).items()}  # collective
     error = None
     if model.comm.rank == 0:
         mesh = model.mesh
@@ -461,7 +462,7 @@ def load_fibres(model, path: str) -> dict:
     effects = data.get("effects", {})
     _set_fields(model, {"beam": {"unknowns": u[model.mesh.local_to_global].ravel()}})
     for e in model.effects:
-        e.load_fibres(model, effects.get(e.state_name, {}) if e.state_name else {})
+        e.load_fibres(model.system, effects.get(e.state_name, {}) if e.state_name else {})
     model.x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
     return attrs
 
@@ -511,7 +512,7 @@ def load_state(model, path: str, solver=None) -> dict:
     matrix_changed = model.update_constraints()
     _set_fields(model, values)
     for name, e in _stateful(model).items():
-        e.load_state(model, effects[name])
+        e.load_state(model.system, effects[name])
     model.x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
     if solver is not None and "stage" in attrs:
         previous = None

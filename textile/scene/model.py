@@ -1,32 +1,36 @@
-"""A scene and its monolithic system: fibres, constraints, loads, effects.
+"""A scene: fibres, their prescribed unknowns and loads, effects, stages.
 
-The model owns the stacked layout of all fields (see :mod:`textile.system.layout`),
-the global matrix and vectors, and evaluates residual and tangent for the
-PETSc SNES by summing the effects the scene has.
+:class:`Model` is what the user builds. Set up (by the solver, or by a
+query of the current state), it closes and assembles its effects into one
+monolithic :class:`~textile.system.system.System` (layout, vectors, matrix,
+constraints, residual and tangent), which the solver drives. The model
+keeps the scene (its schedules move with the stages) and answers the user's
+queries of the solved state (centre lines, section vectors, reactions).
 """
 from __future__ import annotations
 
-import time
-
 import numpy as np
 from mpi4py import MPI
-from petsc4py import PETSc
 
-from .. import _cpp
 from ..beam.element import BeamElement
 from ..beam.fibre import Fibre
 from ..beam.fibre_mesh import FibreMesh, dof_indices
-from ..effects import BeamElasticity, EndMoments, NodalForces, State
+from ..effects import BeamElasticity, EndMoments, NodalForces
 from ..effects.base import Effect
 from ..effects.prescribed_displacements import PrescribedDisplacements
-from ..system.constraint_set import ConstraintSet
-from ..system.layout import DofLayout, Field, SparsityBuilder
+from ..system.system import System
 from .loading import Handle, Schedule
-from ..solver.convergence import ResidualGroups
+
+
+def _forwarded(name: str, writable: bool = True) -> property:
+    """The attribute (or method) ``name`` of the model's system."""
+    return property(lambda self: getattr(self.system, name),
+                    (lambda self, value: setattr(self.system, name, value)) if writable else None,
+                    doc=f"``{name}`` of the scene's :class:`~textile.system.system.System`.")
 
 
 class Model:
-    """Fibres plus everything acting on them, assembled into one system.
+    """Fibres plus everything acting on them: the scene, assembled into one system.
 
     Parameters
     ----------
@@ -53,22 +57,9 @@ class Model:
         self._rigid = None
         self._prescribed = PrescribedDisplacements()
         self._ready = False
-        self.load_factor = 0.0
-        #: Newton variant of the tangents SNES asks for: "standard" (exact
-        #: tangent) or "mip" (effects may use the last Newton update, see
-        #: State.du); set by the solver
-        self.newton = "standard"
-        self._linearization_point: PETSc.Vec | None = None
-        self.last_tangent_update = 0.0
-        #: tangents assembled since the solver last ran the effects'
-        #: prepare or update (State.tangent_index; see start_newton)
-        self._tangents_since_update = 0
-        #: the constrained unknowns (built with the layout, in setup)
-        self.constraint_set: ConstraintSet | None = None
-        self._beam_global_dofs = None
-        self._floor_tangent = None
-        self._external_work: PETSc.Vec | None = None   # _applied_forces
-        self._applied_kept = None                        # _applied_forces
+        #: the assembled system (built by setup)
+        self._system: System | None = None
+        self._load_factor = 0.0
 
     # -- scene definition ------------------------------------------------
     def _check_open(self):
@@ -140,12 +131,6 @@ class Model:
         """The scene's :class:`~textile.effects.rigid_bodies.RigidBodies`, or None."""
         return self._rigid
 
-    @property
-    def saddle_point_rows(self) -> int:
-        """Negative eigenvalues the scene's multipliers add to the tangent."""
-        return sum(e.saddle_point_rows() for e in self.effects)
-
-    # -- stages ------------------------------------------------------------
     def schedules(self) -> list[Schedule]:
         """Every schedule of the scene: prescribed displacements, nodal
         forces, end moments and the effects' own (rigid bodies, ...). The
@@ -157,74 +142,10 @@ class Model:
                 out += e.schedules()
         return out
 
-    def begin_stage(self, stage) -> bool:
-        """Apply a :class:`textile.scene.loading.Stage` (targets, releases, effect
-        options) at the current state, load factor 0. Returns True when the
-        set of prescribed unknowns changed (the system matrix is then new)."""
-        self.setup()
-        self.load_factor = 0.0
-        stage.apply()
-        return self.update_constraints()
-
-    def update_constraints(self) -> bool:
-        """The schedules changed (a stage began, a saved state was loaded):
-        set the constrained set up again at the current load factor.
-        Returns True when it changed (the system matrix is then new)."""
-        changed = self._setup_constraints()
-        # the new matrix is collective: a release of unknowns that only one
-        # rank holds changes every rank's system
-        changed = self.comm.allreduce(bool(changed), op=MPI.LOR)
-        if changed:
-            self._setup_residual_groups()
-            self._rebuild_pattern()
-        return changed
-
-    def finish_stage(self) -> None:
-        """The stage is complete: every quantity's end value becomes the
-        start of the next stage (held unless that stage says otherwise)."""
-        for s in self.schedules():
-            s.finish_stage()
-        self.invalidate_constraints()
-        self.load_factor = 0.0
-
-    def invalidate_constraints(self) -> None:
-        """Forget the prescribed values computed for the current load factor
-        (they are recomputed at the next use): call it after changing what
-        a schedule gives at the same load factor (e.g. a load factor set and
-        set back, Solver's load pattern)."""
-        if self.constraint_set is not None:
-            self.constraint_set.invalidate()
-
     @property
-    def constraint_version(self) -> int:
-        """Counts the changes of the constrained set, the same on every
-        rank (ConstraintSet.version; 0 before setup)."""
-        return 0 if self.constraint_set is None else self.constraint_set.version
-
-    def request_matrix_rebuild(self) -> None:
-        """An effect with dynamic_sparsity has couplings the system matrix
-        has no room for (called in its prepare or update): the solver builds
-        a new matrix before the next Newton solve (rebuild_matrix, which
-        asks every such effect's add_dynamic_pattern)."""
-        self.matrix_stale = True
-
-    def start_newton(self) -> None:
-        """The solver ran the effects' prepare or update: a Newton solve
-        follows, whose tangents count from 0 (State.tangent_index)."""
-        self._tangents_since_update = 0
-
-    def _rebuild_pattern(self) -> None:
-        """A new system matrix from the effects' sparsity (a released
-        prescription needs its rows' full pattern back)."""
-        sp = SparsityBuilder(self.layout)
-        for e in self.effects:
-            e.add_sparsity(sp)
-        if self.A is not self._A_base:
-            self.A.destroy()
-        self._A_base.destroy()
-        self.A = sp.create_matrix()
-        self._A_base = self.A
-        self.matrix_stale = any(e.dynamic_sparsity for e in self.effects)
+    def saddle_point_rows(self) -> int:
+        """Negative eigenvalues the scene's multipliers add to the tangent."""
+        return sum(e.saddle_point_rows() for e in self.effects)
 
     def add_effect(self, effect: Effect) -> None:
         """Add a physics term (e.g. an elastic matrix block, a junction)."""
@@ -239,7 +160,6 @@ class Model:
         internal forces, used for absolute solver tolerances."""
         return max(f.material.young * np.pi * f.radius ** 2 for f in self.mesh.fibres)
 
-    # -- system ------------------------------------------------------------
     @property
     def effects(self) -> list[Effect]:
         """Effects assembled in this scene (loads only when present)."""
@@ -252,415 +172,101 @@ class Model:
             out.append(self._moments)
         return out + self._effects
 
+    # -- stages ------------------------------------------------------------
+    def begin_stage(self, stage) -> bool:
+        """Apply a :class:`textile.loading.Stage` (targets, releases, effect
+        options) at the current state, load factor 0. Returns True when the
+        set of prescribed unknowns changed (the system matrix is then new)."""
+        system = self.system
+        system.load_factor = 0.0
+        stage.apply()
+        return system.update_constraints()
+
+    def finish_stage(self) -> None:
+        """The stage is complete: every quantity's end value becomes the
+        start of the next stage (held unless that stage says otherwise)."""
+        for s in self.schedules():
+            s.finish_stage()
+        self.system.invalidate_constraints()
+        self.system.load_factor = 0.0
+
+    # -- the assembled system ------------------------------------------------
     def setup(self) -> None:
-        """Build layout, sparsity and matrix (called by the solver)."""
+        """Close the scene and assemble its system (called by the solver and
+        by the first query of the state; a second call does nothing)."""
         if self._ready:
             return
-        fields = [Field("beam", self.mesh.index_map, 9)]
-        #: field name -> the effect that brings it (None: the fibres')
-        self._field_owner = {"beam": None}
-        for e in self.effects:
-            brought = e.add_fields(self)
-            self._field_owner.update({f.name: e for f in brought})
-            fields += brought
-        self.layout = DofLayout(self.comm, fields)
-        for e in self.effects:
-            e.setup(self)
-        sp = SparsityBuilder(self.layout)
-        for e in self.effects:
-            e.add_sparsity(sp)
-        self.A = sp.create_matrix()
-        # effects with couplings that change (contact) extend this base
-        # pattern when they change: see rebuild_matrix
-        self._A_base = self.A
-        self.matrix_stale = False
-        self.x = self.layout.create_vector()
-        self.b = self.layout.create_vector()
-        # global-index contributions skip constrained dofs (index -1)
-        self.b.setOption(PETSc.Vec.Option.IGNORE_NEGATIVE_INDICES, True)
-        self.constraint_set = ConstraintSet(self.layout, lambda: self.effects)
-        self._setup_constraints()
-        self._setup_residual_groups()
-        # the unknowns as the kernels see them: q = u + X_q (fibre positions,
-        # matrix node and rigid body coordinates: the couplings compute X + u)
-        reference = {"beam": self.mesh.X_local.ravel()}
-        for e in self.effects:
-            reference.update(e.reference_values())
-        self._X_q = self.layout.create_vector()
-        self.layout.scatter(self._X_q, [reference.get(f.name, np.zeros(f.size_ghosted))
-                                        for f in self.layout.fields])
-        self.residual_norms = None
-        self.residual_floors = None
-        self._floor_tangent = None
-        self.force_reference = None
-        self.domain_error: Exception | None = None
-        #: (effect class, "residual" | "jacobian") -> seconds of assembly on this rank
-        self.effect_seconds: dict[tuple[str, str], float] = {}
+        self._system = System(self.comm, self.mesh, self.element, self.effects, self.force_scale,
+                              self._load_factor)
         self._ready = True
 
-    def _setup_constraints(self) -> bool:
-        """The constrained set every effect sees (the effects'
-        constraints: prescribed displacements, rigid bodies' couplings, ...)
-        read again; True when it changed on this rank."""
-        self._beam_global_dofs = None
-        return self.constraint_set.setup(self.load_factor)
+    @property
+    def system(self) -> System:
+        """The scene's assembled :class:`~textile.system.system.System`
+        (built on first use)."""
+        self.setup()
+        return self._system
 
-    def _setup_residual_groups(self) -> None:
-        """Rows of the owned global vector by group (see textile.solver.convergence):
-        the free rows of each group, and which reactions (constrained rows,
-        in the order of ``ConstraintSet.owned``) belong to it."""
-        constrained = self.owned_positions(self.constraint_set.owned(0.0)[0])
-        owned_constrained = np.unique(constrained)
-        rows, scale, reactions, start = {}, {}, {}, 0
-        rmax = max(f.radius for f in self.mesh.fibres)
+    @property
+    def load_factor(self) -> float:
+        """Where the scene's schedules stand in the current stage (0 to 1)."""
+        return self._load_factor if self._system is None else self._system.load_factor
 
-        def split(name, free_rows, force_scale, select):
-            rows[name], scale[name] = free_rows, force_scale
-            reactions[name] = np.flatnonzero(select)
+    @load_factor.setter
+    def load_factor(self, value: float) -> None:
+        if self._system is None:
+            self._load_factor = value
+        else:
+            self._system.load_factor = value
 
-        for f in self.layout.fields:
-            pos = np.arange(start, start + f.size_local)
-            free = pos[~np.isin(pos, owned_constrained)]
-            mine = (constrained >= start) & (constrained < start + f.size_local)
-            if f.name == "beam":
-                comp, rcomp = (free - start) % 9, (constrained - start) % 9
-                split("positions", free[comp < 3], self.force_scale, mine & (rcomp < 3))
-                split("sections", free[comp >= 3], self.force_scale * rmax, mine & (rcomp >= 3))
-            else:
-                split(f.name, free, self.force_scale, mine)
-            start += f.size_local
-        split("constraints", owned_constrained.astype(np.int64),
-              max(f.length for f in self.mesh.fibres), np.zeros(len(constrained), dtype=bool))
-        self.residual_groups = ResidualGroups(self.comm, list(rows), rows, scale, reactions)
-
-    def field_owner(self, field: str) -> Effect | None:
-        """The effect that brings ``field`` (None for the fibres' "beam")."""
-        return self._field_owner[field]
-
-    def reference_values(self) -> dict[str, np.ndarray]:
-        """Field name -> the reference values the kernels add to its
-        unknowns (owned then ghost, unrolled; zero where an effect gives
-        none): fibre node [X0, G1, G2], matrix node coordinates, body
-        centres (see Effect.reference_values)."""
-        arrays = self.layout.get_local(self._X_q)
-        return {f.name: a.copy() for f, a in zip(self.layout.fields, arrays)}
-
-    def reference_norm(self) -> float:
-        """Norm of the reference values of every field (reference_values):
-        with the unknowns' norm, the size of the unknowns as the kernels
-        see them (the scale of a negligible Newton update). Collective."""
-        return self._X_q.norm()
-
-    def set_field_values(self, field: str, change) -> None:
-        """Change the unknowns of ``field`` in the solution: ``change`` gets
-        this rank's local array of the field (owned then ghost, unrolled, a
-        copy) and edits it in place; the vector is then set from every
-        field's local array, and the ghosts from their owners. Collective.
-        The way an effect changes its own field's unknowns (e.g. rigid
-        bodies folding the rotation increment into their rotation at
-        commit): the same change on every rank."""
-        arrays = [a.copy() for a in self.layout.get_local(self.x)]
-        change(arrays[self.layout.index(field)])
-        self.layout.scatter(self.x, arrays)
-        self.x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
-
-    def block_keys(self, field: str) -> np.ndarray:
-        """(local blocks, k) int64 partition-independent names of the
-        blocks of ``field`` (owned then ghost): a fibre node's global index,
-        or what the effect bringing the field says (Effect.block_keys)."""
-        owner = self._field_owner[field]
-        if owner is None:
-            return self.mesh.local_to_global.astype(np.int64)[:, None]
-        return np.asarray(owner.block_keys(field), dtype=np.int64)
-
-    def state(self, x: PETSc.Vec | None = None) -> State:
-        """Local view of the unknowns in x (default: the model's solution)."""
-        x = self.x if x is None else x
-        x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
-        arrays = self.layout.get_local(x)
-        st = State(self.load_factor)
-        for f, a in zip(self.layout.fields, arrays):
-            st.u[f.name] = a
-            st.dofs[f.name] = self.constraint_set.masked[f.name]
-        return st
-
-    def apply_constraints(self, x: PETSc.Vec) -> None:
-        """Set prescribed values at the current load factor into x."""
-        self.constraint_set.apply(x, self.load_factor)
-
-    def rebuild_matrix(self) -> PETSc.Mat:
-        """Recreate the system matrix with the base pattern plus the entries
-        that effects with dynamic sparsity declare now (collective)."""
-        if not self._A_base.isAssembled():
-            # the base pattern is read from an assembled matrix: fill it once
-            # with the tangent of the effects whose couplings are fixed
-            st = self.state()
-            self._A_base.zeroEntries()
-            for e in self.effects:
-                if not e.dynamic_sparsity:
-                    e.jacobian(st, self._A_base)
-            idx, _ = self.constraint_set.owned(self.load_factor)
-            _cpp.add_diagonal(self._A_base, idx.astype(np.int32), 1.0)
-            self._A_base.assemble()
-        P = _cpp.create_preallocator(self._A_base)
-        st = self.state()
-        for e in self.effects:
-            if e.dynamic_sparsity:
-                e.add_dynamic_pattern(self, P)
-        # block size 1, not the base's: with block size 9 the capstan's slip
-        # reversal (tests/contact/test_capstan.py) classifies stick and slip
-        # at its first iterate by round-off, and two ranks then cycle where
-        # one converges; kept until that tie is decided deterministically
-        A = _cpp.preallocated_matrix(P, self._A_base)
-        P.destroy()
-        if self.A is not self._A_base:
-            self.A.destroy()
-        self.A = A
-        self.matrix_stale = False
-        del st
-        return A
-
-    def constrained_positions(self) -> np.ndarray:
-        """Positions, in this rank's owned part of the global vector, of the
-        unknowns constrained at the current load factor."""
-        idx, _ = self.constraint_set.owned(self.load_factor)
-        return self.owned_positions(idx)
-
-    def residual(self, snes, x: PETSc.Vec, b: PETSc.Vec) -> None:
-        """SNES function: r(u) with constrained rows replaced by u - u_prescribed.
-
-        A state outside the model's domain (an effect raises
-        :class:`textile.GeometryError`, e.g. a folded element) is recorded in
-        ``domain_error`` and gives an infinite residual: SNES stops and the
-        solver cuts the step. Any other exception propagates."""
-        st = self.state(x)
-        local = {f.name: np.zeros(f.size_ghosted) for f in self.layout.fields}
-        error = None
-        try:
-            for e in self.effects:
-                t0 = time.perf_counter()
-                e.residual(st, local)
-                self._time(e, "residual", t0)
-        except _cpp.GeometryError as exc:
-            error = exc
-        if self._domain_error(error, b):
-            return
-        applied = self._applied_forces(st)
-        self.layout.scatter(b, [local[f.name] for f in self.layout.fields])
-        b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
-        added = []
-        try:
-            for e in self.effects:
-                t0 = time.perf_counter()
-                added.append(e.residual_global(st, b))
-                self._time(e, "residual", t0)
-        except _cpp.GeometryError as exc:
-            error = exc
-        if self._domain_error(error, b):
-            return
-        if self.comm.allreduce(any(added), op=MPI.LOR):
-            b.assemble()
-        # owned part of the stacked local numbering -> position in the owned array
-        pos, _, vals = self.constraint_set.owned_rows(self.load_factor)
-        barr = b.getArray()
-        xarr = x.getArray(readonly=True)
-        self._reaction_values = barr[pos].copy()   # internal - external force at supports
-        barr[pos] = xarr[pos] - vals
-        if not np.all(np.isfinite(barr)):
-            # a non-finite residual makes SNES stop with DIVERGED_FNORM_NAN:
-            # the load step is then cut, never accepted
-            barr[~np.isfinite(barr)] = np.inf
-        self.residual_norms = self.residual_groups.norms(barr)
-        # the force scale of each group: applied loads and support reactions
-        self.force_reference = np.hypot(applied, self.residual_groups.reaction_norms(
-            self._reaction_values))
-
-    def residual_record(self) -> tuple:
-        """What the last residual evaluation recorded (group norms, force
-        scale, support reactions) with the load factor and constraints it
-        was made at: restore_residual_record sets it back (the solver's
-        predictor keeps its last evaluation for Newton's first)."""
-        return (self.load_factor, self.constraint_set.key, self.residual_norms,
-                self.force_reference, self._reaction_values)
-
-    def residual_record_current(self, record: tuple) -> bool:
-        """Was record made at the current load factor and constraints?"""
-        return record[0] == self.load_factor and record[1] is self.constraint_set.key
-
-    def restore_residual_record(self, record: tuple) -> None:
-        self.residual_norms, self.force_reference, self._reaction_values = record[2:]
-
-    def _time(self, effect: Effect, kind: str, t0: float) -> None:
-        """Add the seconds since t0 to the effect's assembly time."""
-        key = (type(effect).__name__, kind)
-        self.effect_seconds[key] = self.effect_seconds.get(key, 0.0) + time.perf_counter() - t0
-
-    def _domain_error(self, error, b: PETSc.Vec) -> bool:
-        """Collective: did any rank meet a domain error? Then record it and
-        make the residual infinite (every rank takes the same branch)."""
-        if not self.comm.allreduce(error is not None, op=MPI.LOR):
-            return False
-        self.domain_error = error or _cpp.GeometryError("domain error on another rank")
-        b.assemble()  # values an effect added before it met the error
-        b.set(np.inf)
-        self.residual_norms = np.full(len(self.residual_groups.names), np.inf)
-        return True
-
-    def _applied_forces(self, st: State) -> np.ndarray:
-        """Norm per residual group of the external generalized forces the
-        effects apply at this state (collective)."""
-        loads = [e for e in self.effects if type(e).external is not Effect.external]
-        if not loads:
-            return np.zeros(len(self.residual_groups.names))
-        key = None
-        if all(type(e).external_from_schedules for e in loads):
-            # dead loads: the same norms while their schedules' values are
-            key = [s.values(st.load_factor) for e in loads for s in e.schedules()]
-            kept = self._applied_kept
-            if (kept is not None and kept[0] is self.residual_groups and len(kept[1]) == len(key)
-                    and all(np.array_equal(a, b) for a, b in zip(kept[1], key))):
-                return kept[2]
-        ext = {f.name: np.zeros(f.size_ghosted) for f in self.layout.fields}
-        for e in loads:
-            e.external(st, ext)
-        # one work vector for the run (the layout is fixed once set up):
-        # the scatter overwrites its owned and ghost entries
-        v = self._external_work
-        if v is None:
-            v = self._external_work = self.layout.create_vector()
-        self.layout.scatter(v, [ext[f.name] for f in self.layout.fields])
-        v.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
-        out = self.residual_groups.norms(v.getArray(readonly=True))
-        out.setflags(write=False)
-        self._applied_kept = None if key is None else (self.residual_groups, key, out)
-        return out
-
-    def owned_positions(self, stacked_local: np.ndarray) -> np.ndarray:
-        """Map stacked local indices of owned dofs to positions in the owned
-        part of the global vector (DofLayout.owned_positions)."""
-        return self.layout.owned_positions(stacked_local)
-
-    def set_linearization_point(self, x: PETSc.Vec | None = None) -> None:
-        """Remember x (default: the solution) as the last linearization point:
-        the next SNES tangent sees du = iterate - x (see State.du). The solver
-        calls it with the converged state at the start of every step."""
-        x = self.x if x is None else x
-        if self._linearization_point is None:
-            self._linearization_point = x.duplicate()
-        x.copy(self._linearization_point)
-
-    def jacobian(self, snes, x: PETSc.Vec, J: PETSc.Mat, P: PETSc.Mat) -> None:
-        """SNES Jacobian: sum of the effects' tangents, identity on constrained rows."""
-        st = self.state(x)
-        st.tangent_index = self._tangents_since_update
-        self._tangents_since_update += 1
-        if self.newton == "mip":
-            if self._linearization_point is None:
-                self.set_linearization_point(x)
-            ref = self._linearization_point
-            ref.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
-            for f, a in zip(self.layout.fields, self.layout.get_local(ref)):
-                st.du[f.name] = st.u[f.name] - a
-            #: size of the update the last MIP tangent extrapolated over (its
-            #: geometric stiffness is exact only when this is small)
-            self.last_tangent_update = float(np.sqrt(self.comm.allreduce(
-                sum(float(np.dot(d, d)) for d in st.du.values()))))
-            x.copy(ref)
-        self._assemble_tangent(st, P, J)
-        self._floor_tangent = P
-
-    def _assemble_tangent(self, st: State, P: PETSc.Mat, J: PETSc.Mat) -> None:
-        P.zeroEntries()
-        error = None
-        # constant tangents first: P is still assembled then (zeroEntries
-        # keeps it so, the first insertion ends it), see Effect.constant_tangent
-        for e in sorted(self.effects, key=lambda e: not e.constant_tangent):
-            # every effect assembles even after another's domain error: some
-            # assemblies are collective (contact blocks sent between ranks)
-            t0 = time.perf_counter()
-            try:
-                e.jacobian(st, P)
-            except _cpp.GeometryError as exc:
-                error = error or exc
-            self._time(e, "jacobian", t0)
-        if self.comm.allreduce(error is not None, op=MPI.LOR):
-            # the residual at this state passed: keep SNES going on an
-            # identity, the convergence test stops it (domain_error is set)
-            self.domain_error = error or _cpp.GeometryError("domain error on another rank")
-        _, idx32, _ = self.constraint_set.owned_rows(self.load_factor)
-        _cpp.add_diagonal(P, idx32, 1.0)
-        P.assemble()
-        if J != P:
-            J.assemble()
-
-    def floors(self, x: PETSc.Vec) -> np.ndarray | None:
-        """Round-off floor of each residual group at x: | (|K| |q|)_g |, K
-        the last assembled tangent, q the unknowns as the kernels see them
-        (textile.solver.convergence); None before any tangent. Collective; computed
-        only when the convergence test needs it (a pass over the matrix)."""
-        K = self._floor_tangent
-        if K is None:
-            return None
-        q = x.copy()
-        q.axpy(1.0, self._X_q)
-        y = self.b.duplicate()
-        _cpp.absolute_product(K, q, y)
-        self.residual_floors = self.residual_groups.norms(y.getArray(readonly=True))
-        q.destroy()
-        y.destroy()
-        return self.residual_floors
+    # The system's own API, reached through the scene by scripts and tests
+    # that hold the model (the solver and the effects work on the System).
+    x = _forwarded("x")
+    b = _forwarded("b")
+    A = _forwarded("A")
+    layout = _forwarded("layout")
+    constraint_set = _forwarded("constraint_set")
+    residual_groups = _forwarded("residual_groups")
+    residual_norms = _forwarded("residual_norms")
+    force_reference = _forwarded("force_reference")
+    domain_error = _forwarded("domain_error")
+    matrix_stale = _forwarded("matrix_stale")
+    effect_seconds = _forwarded("effect_seconds")
+    newton = _forwarded("newton")
+    last_tangent_update = _forwarded("last_tangent_update")
+    constraint_version = _forwarded("constraint_version")
+    state = _forwarded("state", writable=False)
+    residual = _forwarded("residual", writable=False)
+    jacobian = _forwarded("jacobian", writable=False)
+    apply_constraints = _forwarded("apply_constraints", writable=False)
+    rebuild_matrix = _forwarded("rebuild_matrix", writable=False)
+    update_constraints = _forwarded("update_constraints", writable=False)
+    invalidate_constraints = _forwarded("invalidate_constraints", writable=False)
+    request_matrix_rebuild = _forwarded("request_matrix_rebuild", writable=False)
+    start_newton = _forwarded("start_newton", writable=False)
+    set_linearization_point = _forwarded("set_linearization_point", writable=False)
+    floors = _forwarded("floors", writable=False)
+    reference_values = _forwarded("reference_values", writable=False)
+    reference_norm = _forwarded("reference_norm", writable=False)
+    set_field_values = _forwarded("set_field_values", writable=False)
+    block_keys = _forwarded("block_keys", writable=False)
+    field_owner = _forwarded("field_owner", writable=False)
+    constrained_positions = _forwarded("constrained_positions", writable=False)
+    owned_positions = _forwarded("owned_positions", writable=False)
+    beam_values = _forwarded("beam_values", writable=False)
+    beam_positions = _forwarded("beam_positions", writable=False)
+    beam_global_dofs = _forwarded("beam_global_dofs", writable=False)
+    residual_record = _forwarded("residual_record", writable=False)
+    residual_record_current = _forwarded("residual_record_current", writable=False)
+    restore_residual_record = _forwarded("restore_residual_record", writable=False)
 
     # -- results -------------------------------------------------------------
-    def _gather_beam(self, values: np.ndarray) -> np.ndarray:
-        """All ranks: (global nodes, 9) from each rank's owned node values."""
-        owned = np.ascontiguousarray(values[: 9 * self.mesh.num_owned])
-        parts = self.comm.allgather(owned)
-        return np.concatenate(parts).reshape(-1, 9)
-
-    def beam_values(self, x: PETSc.Vec) -> np.ndarray:
-        """All ranks: (global nodes, 9) values of the beam unknowns in a
-        global vector x (each rank's owned part; the beam field comes first
-        in it). Collective."""
-        return self._gather_beam(x.getArray(readonly=True)[: 9 * self.mesh.num_owned])
-
-    def beam_positions(self, state: State) -> np.ndarray:
-        """All ranks: (global nodes, 9) current [x0, g1, g2] from a state."""
-        return self.mesh.X_global + self._gather_beam(state.u["beam"])
-
-    def beam_global_dofs(self, state: State | None = None,
-                         constrained: bool = False) -> np.ndarray:
-        """All ranks: global system index of every beam unknown (9 per
-        global node), -1 where constrained (the constrained set is fixed for
-        a run; computed once). ``constrained=True``: the constrained ones
-        keep their index too: a residual may write their rows, which
-        :meth:`residual` records as support reactions and then replaces
-        (a tangent must not: its constrained rows are the identity)."""
-        if self._beam_global_dofs is None:
-            self._beam_global_dofs = self._compute_beam_global_dofs()
-        return self._beam_global_dofs[1 if constrained else 0]
-
-    def _compute_beam_global_dofs(self) -> tuple[np.ndarray, np.ndarray]:
-        """(masked, all): the global dofs with and without -1 at constrained ones."""
-        mesh = self.mesh
-        nodes = np.arange(mesh.num_nodes_global)
-        owners = np.searchsorted(mesh.bounds, nodes, side="right") - 1
-        dofs = self.layout.global_dofs("beam", nodes, owners).ravel().astype(np.int32)
-        # the one constrained set (prescribed dofs and effects' constraints),
-        # from every rank's local part
-        local = self.constraint_set.dofs.get("beam", np.zeros(0, dtype=np.int64))
-        unrolled = 9 * mesh.local_to_global[local // 9] + local % 9
-        masked = dofs.copy()
-        masked[np.concatenate(self.comm.allgather(unrolled)).astype(np.int64)] = -1
-        return masked, dofs
-
     def nodal_unknowns(self) -> np.ndarray:
         """Current (global nodes, 9) values [x0, g1, g2] (positions, not
         displacements), identical on every rank. Collective: call it on
         every rank (not inside a rank-0 block), as centreline,
         section_vectors and reaction, which use it or an allreduce."""
-        self.setup()
-        u = self.state().u["beam"]
-        return self.mesh.X_global + self._gather_beam(u)
+        return self.system.nodal_unknowns()
 
     def centreline(self, fibre) -> np.ndarray:
         """Current (n, 3) centre-line node positions of ``fibre``."""
@@ -676,15 +282,4 @@ class Model:
         last residual evaluation: internal minus external generalized force,
         i.e. the force the support exerts on the fibre (a bar pulled by +P at
         its free end has reaction -P at its clamp)."""
-        g = self.mesh.node(fibre, node)
-        idx = dof_indices(dofs)
-        out = np.zeros(len(idx))
-        l = self.mesh.global_to_local([g])[0]
-        if 0 <= l < self.mesh.num_owned:
-            offs, _ = self.constraint_set.owned(self.load_factor)
-            for k, d in enumerate(idx):
-                hit = np.flatnonzero(offs == self.layout.offset("beam") + 9 * l + d)
-                if len(hit) == 0:
-                    raise ValueError(f"dof {d} of node {node} is not constrained: no reaction")
-                out[k] = self._reaction_values[hit[0]]
-        return self.comm.allreduce(out, op=MPI.SUM)
+        return self.system.reaction_values(self.mesh.node(fibre, node), dof_indices(dofs))

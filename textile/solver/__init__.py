@@ -98,11 +98,11 @@ class Solver:
             else SolverOptions.from_dict(options)
         self.output = output
         self.on_step = on_step
-        model.setup()
-        model.newton = options.newton
+        system = model.system   # the scene closes here
+        system.newton = options.newton
         self.comm = model.comm
         self._counts = new_counts()
-        self.newton = Newton(model, options, self._counts)  # starts PETSc's event log
+        self.newton = Newton(system, options, self._counts)  # starts PETSc's event log
         self._events_at_start = event_counts()
         self.loop = ContactLoop(self.newton)
         self.stability = StabilityCheck(self.loop, self._warn)

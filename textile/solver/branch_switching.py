@@ -29,7 +29,7 @@ class BranchSwitching:
 
     def __init__(self, check):
         self.check = check
-        self.model = check.model
+        self.system = check.system
         self.options = check.options
         self.comm = check.comm
         self.counts = check.counts
@@ -84,7 +84,7 @@ class BranchSwitching:
                                                   [z.vector for z in found.motions or []])
         if not modes:
             return values, modes
-        groups = self.model.residual_groups
+        groups = self.system.residual_groups
         norms = groups.norms(modes[0].getArray(readonly=True))
         self.found = dict(eigenvalue=float(values[0]), mode_share={
             n: float(v ** 2) for n, v in zip(groups.names, norms)},
@@ -104,7 +104,7 @@ class BranchSwitching:
         the tangent's."""
         K = self.check.newton.snes.getKSP().getOperators()[0]
         free = np.ones(len(mode.getArray(readonly=True)), dtype=bool)
-        free[self.model.constrained_positions()] = False
+        free[self.system.constrained_positions()] = False
         v = mode.copy()
         v.getArray()[~free] = 0.0
         w = v.duplicate()
@@ -119,7 +119,7 @@ class BranchSwitching:
     def _perturb_and_solve(self, t, before, directions, oriented, eigenvalue):
         """switch's attempts: the state perturbed along each
         direction and amplitude, solved at t; see switch."""
-        m, o = self.model, self.options
+        m, o = self.system, self.options
         unstable = m.x.copy()
         length = max(f_.length for f_ in m.mesh.fibres)
         positions = m.residual_groups.rows["positions"]
@@ -184,7 +184,7 @@ class BranchSwitching:
         """Potential energy of state b minus state a (same load factor):
         the residual integrated along the straight path between them (4-point
         Gauss), over the free unknowns (exact for conservative effects)."""
-        m = self.model
+        m = self.system
         dx = xb.copy()
         dx.axpy(-1.0, xa)
         free = np.ones(len(dx.getArray()), dtype=bool)

@@ -24,7 +24,7 @@ class ContactLoop:
 
     def __init__(self, newton: Newton):
         self.newton = newton
-        self.model = newton.model
+        self.system = newton.system
         self.comm = newton.comm
         self.options = newton.options
         #: did the predictor keep the extrapolated state at the last step?
@@ -33,7 +33,7 @@ class ContactLoop:
     def effects_step(self, method: str) -> tuple[bool, str]:
         """Call ``method`` of every effect (prepare, update); GeometryError
         on any rank makes the attempt fail. Returns (changed, error)."""
-        m = self.model
+        m = self.system
         error, changed = "", False
         try:
             results = [getattr(e, method)(m) for e in m.effects]
@@ -51,7 +51,7 @@ class ContactLoop:
         (loops 1-2: contact elements, normals, penalties). ``previous``:
         (load factor, state) of the converged step before the current one,
         for the secant predictor (None: none)."""
-        m, o = self.model, self.options
+        m, o = self.system, self.options
         m.domain_error = None
         # at the last converged state: history (e.g. friction stick points)
         # carries over to re-detected elements without the step's increment

@@ -60,19 +60,19 @@ class NewtonResult:
 class Newton:
     """One SNES with the model's residual, tangent and convergence test.
 
-    ``model`` must be set up (``model.setup()``, ``model.newton``);
+    ``system`` is a scene's assembled System (``model.system``, its ``newton`` set);
     ``options`` is a :class:`SolverOptions` (its Newton, linear-solver and
     PETSc fields; ``max_it``, ``stol`` and ``verbose`` are read at every
     solve: a stage may change them). ``counts``: the dict of counters to
     add to (:func:`new_counts` by default)."""
 
-    def __init__(self, model, options: SolverOptions, counts: dict | None = None):
-        self.model = model
+    def __init__(self, system, options: SolverOptions, counts: dict | None = None):
+        self.system = system
         self.options = options
-        self.comm = model.comm
+        self.comm = system.comm
         o = options
         self.tolerances = GroupTolerances(o.rtol, o.atol, o.floor_factor)
-        groups = model.residual_groups
+        groups = system.residual_groups
         self.scales = np.array([groups.scale[n] for n in groups.names])
         self.prefix = f"textile{next(_prefixes)}_"
         # PETSc's options database is global and bounded (error 55 once
@@ -84,7 +84,7 @@ class Newton:
         self.factor_near = False
         self.cycled = False
         #: did the solve stop because the matrix has no room for the
-        #: iterate's couplings (model.matrix_stale, see _converged)?
+        #: iterate's couplings (system.matrix_stale, see _converged)?
         self.outgrown = False
         #: Newton iterations allowed in the current solve (0: max_it; see solve)
         self.cap = 0
@@ -94,7 +94,7 @@ class Newton:
         self.snes = self._create_snes()  # starts PETSc's event log
 
     def _create_snes(self) -> PETSc.SNES:
-        o, m = self.options, self.model
+        o, m = self.options, self.system
         snes = PETSc.SNES().create(self.comm)
         snes.setOptionsPrefix(self.prefix)
         snes.setType("newtonls")
@@ -124,31 +124,31 @@ class Newton:
     def stage_began(self) -> None:
         """A stage has begun (its effect options set): the factorization
         follows its tangent's symmetry (LinearSolver.stage_symmetry)."""
-        self.linear.stage_symmetry(all(e.symmetric_tangent for e in self.model.effects))
+        self.linear.stage_symmetry(all(e.symmetric_tangent for e in self.system.effects))
 
     def _residual(self, snes, x, b) -> None:
         kept, self._kept_residual = self._kept_residual, None
-        reuse = kept is not None and kept.matches(self.model, x)
+        reuse = kept is not None and kept.matches(self.system, x)
         if self.comm.size > 1:
             # every rank or none: the evaluation is collective
             reuse = self.comm.allreduce(reuse, op=MPI.LAND)
         if reuse:
             # the predictor's last residual_norm was at this very iterate:
             # the same residual, not evaluated again
-            kept.restore(self.model, b)
+            kept.restore(self.system, b)
             return
         self.counts["residual_evaluations"] += 1
-        self.model.residual(snes, x, b)
+        self.system.residual(snes, x, b)
 
     def _jacobian(self, snes, x, J, P) -> None:
         self.counts["jacobian_evaluations"] += 1
-        self.model.jacobian(snes, x, J, P)
+        self.system.jacobian(snes, x, J, P)
         self.linear.refresh(snes)
 
     def _converged(self, snes, it, norms):
         """Per-group residual test (textile.solver.convergence) or a negligible
         Newton update; domain errors and non-finite residuals stop SNES."""
-        m, o = self.model, self.options
+        m, o = self.system, self.options
         xnorm, ynorm, fnorm = norms
         if m.domain_error is not None:
             return PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
@@ -206,7 +206,7 @@ class Newton:
         GMRES on a reused or approximate factorization, a fresh one.
         ``cap`` > 0: stop after at most that many iterations (unconverged:
         ``NewtonResult.capped``; SolverOptions.newton_per_pass)."""
-        m, o = self.model, self.options
+        m, o = self.system, self.options
         result = NewtonResult()
         capped = 0 < cap < o.max_it
         budget = cap if capped else o.max_it
@@ -253,7 +253,7 @@ class Newton:
     def residual_norm(self, x: PETSc.Vec) -> float:
         """Norm of the residual at x with the constraints of the current
         load factor applied (inf outside the domain); x is not changed."""
-        m = self.model
+        m = self.system
         y = x.copy()
         m.apply_constraints(y)
         r = m.b.duplicate()

@@ -30,7 +30,7 @@ class StabilityCheck:
     def __init__(self, loop: ContactLoop, warn=None):
         self.loop = loop
         self.newton = loop.newton
-        self.model = loop.model
+        self.system = loop.system
         self.comm = loop.comm
         self.options = loop.options
         self.counts = loop.newton.counts
@@ -65,13 +65,13 @@ class StabilityCheck:
             return Inertia(None)
         # a saddle point (multipliers) has one negative eigenvalue per
         # constraint row by construction (Sylvester)
-        pivots = negative - self.model.saddle_point_rows
+        pivots = negative - self.system.saddle_point_rows
         if pivots <= 0:
             return Inertia(pivots, pivots)
         # some negative pivots may be round-off of zero-energy motions
         t0 = time.perf_counter()
         try:
-            motions = zero_energy_motions(self.model, self.model.A)
+            motions = zero_energy_motions(self.system, self.system.A)
             negative = pivots - zero_motion_pivots(ksp.getPC(), [z.vector for z in motions])
         finally:
             self.counts["zero_motion_searches"] += 1
@@ -81,7 +81,7 @@ class StabilityCheck:
     def factorize_at_solution(self) -> None:
         """Factorize the exact tangent at the converged state (the Newton
         solve ended without a factorization close enough to it)."""
-        m = self.model
+        m = self.system
         self.counts["factorizations_at_solution"] += 1
         newton, m.newton = m.newton, "standard"
         try:
@@ -151,7 +151,7 @@ class StabilityCheck:
         """critical_modes of the current factorization, counted and timed."""
         t0 = time.perf_counter()
         try:
-            return critical_modes(self.newton.snes.getKSP(), self.model.constrained_positions(),
+            return critical_modes(self.newton.snes.getKSP(), self.system.constrained_positions(),
                                   count, self.comm, deflate)
         finally:
             self.counts["eigen_solves"] += 1
@@ -161,7 +161,7 @@ class StabilityCheck:
         """d(external load)/dt at the current state: minus the residual's
         derivative in the load factor (a finite difference; exact for dead
         loads), zero on constrained rows."""
-        m = self.model
+        m = self.system
         h = 1e-6 * max(abs(t), 1.0)
         r0, r1 = m.b.duplicate(), m.b.duplicate()
         m.residual(None, m.x, r0)
@@ -190,7 +190,7 @@ class StabilityCheck:
         if first_increment is not None and previous is not None:
             dt1, du1 = first_increment
             t_prev, x_prev = previous
-            dun = self.model.x - x_prev
+            dun = self.system.x - x_prev
             f = self.load_pattern(t)
             c1, cn = f.dot(du1) / dt1, f.dot(dun) / (t - t_prev)
             if c1 > 0 and cn != 0 and c1 / cn < 0.2:

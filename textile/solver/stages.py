@@ -63,7 +63,7 @@ class Stages(Stepping):
         self.stage = stage
         if m.begin_stage(stage):
             # the prescribed set changed: a new matrix for the new rows
-            self.newton.set_operators(m.A)
+            self.newton.set_operators(self.system.A)
         self.newton.stage_began()
         self.options = options
         self.previous = None  # no secant predictor across stages
@@ -88,7 +88,7 @@ class Stages(Stepping):
             raise
         self.stage = stage
         if m.update_constraints():   # the saved releases again: the same set, as a rule
-            self.newton.set_operators(m.A)
+            self.newton.set_operators(self.system.A)
         self.newton.stage_began()
         self.options = dataclasses.replace(self.base_options, **stage.solver)
         self.log(f"stage {self.stage_index}: {stage.name} resumed at s={m.load_factor:.6g}")
@@ -152,4 +152,4 @@ class Stages(Stepping):
     def resume_matrix(self) -> None:
         """The model has a new system matrix (a loaded state changed the
         constrained set): solve with it."""
-        self.newton.set_operators(self.model.A)
+        self.newton.set_operators(self.system.A)

@@ -65,7 +65,9 @@ class Stepping:
         self.loop = loop
         self.newton = loop.newton
         self.stability = stability
-        self.model = loop.model
+        #: the scene (schedules, stages) and its assembled system (the numerics)
+        self.model = owner.model
+        self.system = loop.system
         self.comm = loop.comm
         self.counts = loop.newton.counts
         self._options = loop.options
@@ -120,7 +122,7 @@ class Stepping:
         self.stage_started = True
         if self.t0 is None:
             self.t0 = time.perf_counter()
-        o, m = self.options, self.model
+        o, m = self.options, self.system
         if not (isinstance(t_end, (int, float)) and math.isfinite(t_end)):
             raise ValueError(f"t_end must be a finite number, got {t_end!r}")
         t = m.load_factor

@@ -1,6 +1,9 @@
-"""The assembled system's bookkeeping: how the unknowns of every field are laid
-out and which of them are constrained.
+"""The assembled system of a scene: its unknowns, matrix and constraints.
 
+- :mod:`textile.system.system`: :class:`~textile.system.system.System`,
+  built from a closed scene (:class:`textile.Model`): the vectors and the
+  matrix, the residual and tangent of the scene's effects, what the solver
+  parts and the effects' hooks work on;
 - :mod:`textile.system.layout`: the stacked layout of all fields (fibre
   nodes, matrix block, rigid bodies) over dolfinx index maps, the sparsity
   builder and the blocked matrix;
@@ -9,7 +12,4 @@ out and which of them are constrained.
   values at a load factor;
 - :mod:`textile.system.dolfinx_core`: dolfinx's compiled core without its
   Python layer (the index maps and vectors the layout is built on).
-
-The residual and tangent of the system are assembled by
-:class:`textile.Model` (:mod:`textile.scene.model`) from the scene's effects.
 """
