@@ -246,7 +246,7 @@ class System:
         return np.asarray(owner.block_keys(field), dtype=np.int64)
 
     def state(self, x: PETSc.Vec | None = None) -> State:
-        """Local view of the unknowns in x (default: the model's solution)."""
+        """Local view of the unknowns in x (default: the system's solution)."""
         x = self.x if x is None else x
         x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
         arrays = self.layout.get_local(x)
@@ -301,7 +301,7 @@ class System:
     def residual(self, snes, x: PETSc.Vec, b: PETSc.Vec) -> None:
         """SNES function: r(u) with constrained rows replaced by u - u_prescribed.
 
-        A state outside the model's domain (an effect raises
+        A state outside the scene's domain (an effect raises
         :class:`textile.GeometryError`, e.g. a folded element) is recorded in
         ``domain_error`` and gives an infinite residual: SNES stops and the
         solver cuts the step. Any other exception propagates."""
