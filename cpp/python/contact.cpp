@@ -4,6 +4,7 @@
 #include "../textile/contact/coupling_pattern.h"
 #include "../textile/contact/detection.h"
 #include "../textile/contact/held_contact.h"
+#include "../textile/contact/history_handover.h"
 #include "../textile/contact/history_transfer.h"
 #include "../textile/contact/penalty_adaptation.h"
 
@@ -11,6 +12,8 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <cstring>
+#include <string>
 #include <stdexcept>
 #include <type_traits>
 
@@ -291,7 +294,7 @@ void declare_contact(py::module_& m)
           [](const ContactSet& self, const Detection& found, const carray<double>& q,
              const carray<std::int64_t>& first_node, int order, const carray<double>& radius,
              double penalty, double g_r, double mu, double u_rev, double parallel_angle,
-             std::pair<std::int64_t, std::int64_t> owned, const WeavingOrder* weaving,
+             const carray<std::int32_t>& node_owner, int rank, const WeavingOrder* weaving,
              bool reset_normals, const WeavingOrder* woven, bool persist,
              const py::object& group, const py::object& group_mu)
           {
@@ -304,7 +307,8 @@ void declare_contact(py::module_& m)
             par.reset_normals = reset_normals;
             par.woven = woven;
             par.persist = persist;
-            auto [set, zones] = next_contact_set(self, found, geo.lines, cspan(q), par, owned);
+            auto [set, zones] = next_contact_set(self, found, geo.lines, cspan(q), par,
+                                                NodeOwners{cspan(node_owner), rank});
             py::dict inherited;
             inherited["penalty"] = array_of(zones.penalty);
             inherited["previous_zone_min"] = array_of(zones.previous_zone_min);
@@ -314,7 +318,8 @@ void declare_contact(py::module_& m)
           },
           py::arg("found"), py::arg("q"), py::arg("first_node"), py::arg("order"),
           py::arg("radius"), py::arg("penalty"), py::arg("g_r"), py::arg("mu"), py::arg("u_rev"),
-          py::arg("parallel_angle"), py::arg("owned"), py::arg("weaving") = nullptr,
+          py::arg("parallel_angle"), py::arg("node_owner"), py::arg("rank"),
+          py::arg("weaving") = nullptr,
           py::arg("reset_normals") = false, py::arg("woven") = nullptr, py::arg("persist") = false,
           py::arg("group") = py::none(), py::arg("group_mu") = py::none(),
           "The set of detection pass `found` with history from this one (evaluated by this "
@@ -328,7 +333,8 @@ void declare_contact(py::module_& m)
           "from_saved",
           [](const py::dict& a, int num_zones, const carray<double>& q,
              const carray<std::int64_t>& first_node, int order, const carray<double>& radius,
-             double g_r, double mu, double u_rev, std::pair<std::int64_t, std::int64_t> owned,
+             double g_r, double mu, double u_rev, const carray<std::int32_t>& node_owner,
+             int rank,
              const py::object& group, const py::object& group_mu)
           {
             const FrictionCoefficients coefficients = friction_coefficients(
@@ -382,16 +388,62 @@ void declare_contact(py::module_& m)
               const RegularizedCoulomb friction{coefficients.mu(saved.fibre_i, saved.fibre_j),
                                                 u_rev};
               ContactElementState el = restore_element(geo.lines, saved, g_r, friction, cspan(q));
-              if (evaluated_here(el.fibre_i, el.fibre_j, el.element_node_i(), el.element_node_j(), owned))
+              if (evaluated_here(el.fibre_i, el.fibre_j, el.element_node_i(), el.element_node_j(),
+                                 NodeOwners{cspan(node_owner), rank}))
                 elements.push_back(el);
             }
             return ContactSet(std::move(elements), num_zones);
           },
           py::arg("saved"), py::arg("num_zones"), py::arg("q"), py::arg("first_node"),
           py::arg("order"), py::arg("radius"), py::arg("g_r"), py::arg("mu"), py::arg("u_rev"),
-          py::arg("owned"), py::arg("group") = py::none(), py::arg("group_mu") = py::none(),
+          py::arg("node_owner"), py::arg("rank"), py::arg("group") = py::none(),
+          py::arg("group_mu") = py::none(),
           "The elements of a saved state (a dict of the data() columns, all ranks' elements) "
           "that this rank evaluates (evaluated_here in contact_set.h).")
+      .def(
+          "handover",
+          [](const ContactSet& self, const carray<std::int32_t>& node_owner, int rank,
+             const carray<std::int64_t>& first_node, int order, int num_ranks)
+          {
+            // elements travel between ranks as bytes: plain data (numbers,
+            // fixed arrays, Eigen's fixed-size vectors, which hold their
+            // coefficients inline), no pointer or owned resource
+            static_assert(std::is_standard_layout_v<ContactElementState>
+                              and std::is_trivially_destructible_v<ContactElementState>,
+                          "contact elements travel between ranks as bytes");
+            const auto parts = history_handover(self, NodeOwners{cspan(node_owner), rank},
+                                                cspan(first_node), order, num_ranks,
+                                                history_match_distance);
+            py::list out;
+            for (const auto& part : parts)
+              out.append(py::bytes(reinterpret_cast<const char*>(part.data()),
+                                   part.size() * sizeof(ContactElementState)));
+            return out;
+          },
+          py::arg("node_owner"), py::arg("rank"), py::arg("first_node"), py::arg("order"),
+          py::arg("num_ranks"),
+          "Per rank, this set's elements whose successor that rank may evaluate, as bytes "
+          "for with_history (history_handover.h).")
+      .def(
+          "with_history",
+          [](const ContactSet& self, const py::list& parts)
+          {
+            std::vector<ContactElementState> received;
+            for (const auto& part : parts)
+            {
+              const std::string bytes = part.cast<std::string>();
+              if (bytes.size() % sizeof(ContactElementState))
+                throw std::invalid_argument("ContactSet.with_history: not whole elements");
+              const std::size_t n = bytes.size() / sizeof(ContactElementState);
+              const std::size_t start = received.size();
+              received.resize(start + n);
+              std::memcpy(static_cast<void*>(received.data() + start), bytes.data(), bytes.size());
+            }
+            return with_history(self, received);
+          },
+          py::arg("parts"),
+          "This set's elements followed by other ranks' (bytes from handover): a set to "
+          "carry history from (next), never to assemble.")
       .def("take_layout", &ContactSet::take_layout, py::arg("previous"),
            "Take over previous's assembly layout if it couples the same nodes.")
       .def("set_zone_penalties", [](ContactSet& self, const carray<double>& k)
@@ -449,6 +501,8 @@ void declare_contact(py::module_& m)
       .def("nodal_forces",
            [](const ContactSet& self, const carray<double>& q)
            { return array_of(self.nodal_forces(cspan(q))); })
+      .def("nodes", [](const ContactSet& self) { return array_of(self.nodes()); },
+           "The global fibre nodes the elements read, sorted (ContactSet::nodes).")
       .def("commit", &ContactSet::commit)
       .def_property_readonly("num_friction_histories", &ContactSet::num_friction_histories)
       .def("timing",

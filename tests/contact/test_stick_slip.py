@@ -15,7 +15,7 @@ from textile.effects.fibre_contact import FibreContact
 MU = 0.3
 
 
-def run(angle_deg, comm=MPI.COMM_SELF, friction=MU, **yarns):
+def run(angle_deg, comm=MPI.COMM_SELF, friction=MU, partition="place", **yarns):
     E, nu, R, L = 1.0e9, 0.3, 1e-3, 0.1
     mat = textile.Material(E, nu)
     A = textile.straight_fibre([0, -L / 2, 0], [0, L / 2, 0], R, mat, num_elements=8)
@@ -24,7 +24,7 @@ def run(angle_deg, comm=MPI.COMM_SELF, friction=MU, **yarns):
     centre = np.array([0, 0, 2 * R])
     B = textile.straight_fibre(centre - L / 2 * axis, centre + L / 2 * axis, R, mat,
                                num_elements=8)
-    model = textile.Model([A, B], comm=comm)
+    model = textile.Model([A, B], comm=comm, partition=partition)
     for n in range(A.num_nodes):
         model.fix(A, n, "all")
     press, pull = 2e-4, 5e-5   # pull: 5 reversible slips
@@ -84,16 +84,25 @@ def test_stick_then_slip_at_mu_n(angle):
 
 
 @pytest.mark.mpi
-def test_stick_slip_on_two_ranks_equals_one():
+@pytest.mark.parametrize("partition, tolerance", [
+    # A on one rank, B on the other: the same arithmetic (measured 0)
+    ("numbers", dict(N=1e-12, T=1e-12)),
+    # both fibres cut at the crossing: the residual is summed in another
+    # order, and each Newton solve stops within its tolerance of the one-rank
+    # state; the stick force mu N |slip| / u_rev magnifies position
+    # differences by L / u_rev (measured N 2.1e-11, T 3.3e-9)
+    ("place", dict(N=1e-10, T=1e-8)),
+])
+def test_stick_slip_on_two_ranks_equals_one(partition, tolerance):
     """At 60 degrees, the crossing between fibres of the two ranks: the
     same supports' N and T, step by step, as on one rank, through stick and
-    slip (measured 0: the same arithmetic)."""
+    slip."""
     serial, _ = run(60)
-    parallel, _ = run(60, MPI.COMM_WORLD)
+    parallel, _ = run(60, MPI.COMM_WORLD, partition=partition)
     assert [r["t"] for r in serial] == [r["t"] for r in parallel]
     for key in ("N", "T"):
         s, p = np.array([r[key] for r in serial]), np.array([r[key] for r in parallel])
-        assert np.abs(p - s).max() < 1e-12 * np.abs(s).max(), key
+        assert np.abs(p - s).max() < tolerance[key] * np.abs(s).max(), key
 
 
 @pytest.mark.parametrize("yarns, mu", [

@@ -1,10 +1,17 @@
 """The fibres' nodes and elements, numbered globally and split over ranks.
 
-Nodes are numbered fibre after fibre. Each rank owns a contiguous, balanced
-range of node numbers; an element belongs to the rank owning its first
-node, and the other nodes it needs are ghosts. One fibre may thus be cut
-between ranks, so beam assembly is genuinely distributed. Geometry is small
-(9 numbers a node) and is replicated on every rank; unknowns are not.
+Nodes are numbered fibre after fibre: a node's *global number* is the same
+on every rank and for every partition, and it is what the scene, the
+effects and the saved states use. Which rank owns a node is the partition's
+(:mod:`.node_partition`: by place by default, or by number); an element
+belongs to the rank owning its first node, and the other nodes it needs
+are ghosts. One fibre may thus be cut between ranks, so beam assembly is
+genuinely distributed. Geometry is small (9 numbers a node) and is
+replicated on every rank; unknowns are not.
+
+The index map (and so the global system) numbers the nodes rank after rank,
+each rank's own in the order of their global numbers: :attr:`FibreMesh.imap_index`
+turns a global node number into that index.
 """
 from __future__ import annotations
 
@@ -12,6 +19,7 @@ import numpy as np
 
 from ..system.dolfinx_core import load as _load_core
 from .fibre import Fibre
+from .node_partition import node_owners
 
 _cpp = _load_core()   # dolfinx's compiled core alone (textile.system.dolfinx_core)
 
@@ -49,9 +57,13 @@ def dof_indices(dofs) -> tuple[int, ...]:
 
 
 class FibreMesh:
-    """Global numbering and MPI distribution of all fibres' nodes and elements."""
+    """Global numbering and MPI distribution of all fibres' nodes and elements.
 
-    def __init__(self, comm, fibres: list[Fibre], order: int):
+    ``partition``: how nodes are shared out over the ranks, ``"place"``
+    (default) or ``"numbers"`` (:mod:`.node_partition`).
+    """
+
+    def __init__(self, comm, fibres: list[Fibre], order: int, partition: str = "place"):
         if order not in (1, 2):
             raise ValueError(f"element order must be 1 or 2, got {order!r}")
         if not fibres:
@@ -79,32 +91,32 @@ class FibreMesh:
         self.element_fibre = np.concatenate(groups)
         self.X_global = np.vstack([fib.reference_dofs() for fib in self.fibres])
 
-        # balanced contiguous ownership of node ranges
+        # who owns each node, and the index map's numbering: rank after rank
         size, rank = comm.size, comm.rank
-        bounds = (np.arange(size + 1) * n0) // size
-        # do not start a rank's range in the middle of an element: move the
-        # boundary to an element's first node so ghosts stay few
-        starts = self.elements_global[:, 0]
-        for r in range(1, size):
-            k = np.searchsorted(starts, bounds[r])
-            bounds[r] = starts[k] if k < len(starts) else n0
-        bounds = np.maximum.accumulate(bounds)
-        self.bounds = bounds
-        self.owned = (int(bounds[rank]), int(bounds[rank + 1]))
-        lo, hi = self.owned
-        mine = (starts >= lo) & (starts < hi)
+        self.partition = partition
+        self.rank = rank
+        self.node_owner = node_owners(partition, size, self.X_global, self.elements_global)
+        by_rank = np.argsort(self.node_owner, kind="stable")
+        self.imap_index = np.empty(n0, dtype=np.int64)
+        self.imap_index[by_rank] = np.arange(n0)
+        #: nodes each rank owns
+        self.owned_counts = np.bincount(self.node_owner, minlength=size).astype(np.int64)
+        #: global numbers of the nodes in the index map's order (rank after rank)
+        self.nodes_by_rank = by_rank
+        self.owned_nodes = np.flatnonzero(self.node_owner == rank)
+        mine = self.node_owner[self.elements_global[:, 0]] == rank
         self.local_element_ids = np.flatnonzero(mine)
         elems = self.elements_global[mine]
         self._index_map = None
-        self._set_ghosts(elems[(elems < lo) | (elems >= hi)])
+        self._set_ghosts(elems[self.node_owner[elems] != rank])
 
     def _set_ghosts(self, nodes) -> None:
-        """(Re)number the local nodes: owned range, then the sorted ghosts."""
-        lo, hi = self.owned
+        """(Re)number the local nodes: owned ones, then the sorted ghosts."""
         self.ghosts = np.unique(np.asarray(nodes, dtype=np.int64))
-        self._ghost_owners = (np.searchsorted(self.bounds, self.ghosts, side="right")
-                              - 1).astype(np.int32)
-        self.local_to_global = np.concatenate([np.arange(lo, hi, dtype=np.int64), self.ghosts])
+        self._ghost_owners = self.node_owner[self.ghosts]
+        self.local_to_global = np.concatenate([self.owned_nodes, self.ghosts])
+        self._local_of = np.full(self.num_nodes_global, -1, dtype=np.int64)
+        self._local_of[self.local_to_global] = np.arange(len(self.local_to_global))
         elems = self.elements_global[self.local_element_ids]
         self.elements_local = self.global_to_local(elems).astype(np.int32)
         self.X_local = self.X_global[self.local_to_global]
@@ -115,8 +127,8 @@ class FibreMesh:
         use, which is collective (``Model.setup``); the local numbering is
         final from then on."""
         if self._index_map is None:
-            lo, hi = self.owned
-            self._index_map = _cpp.common.IndexMap(self.comm, hi - lo, self.ghosts,
+            self._index_map = _cpp.common.IndexMap(self.comm, len(self.owned_nodes),
+                                                   self.imap_index[self.ghosts],
                                                    self._ghost_owners)
         return self._index_map
 
@@ -135,15 +147,14 @@ class FibreMesh:
         if np.any((nodes < 0) | (nodes >= self.num_nodes_global)):
             raise ValueError(f"FibreMesh.add_ghosts: node numbers must lie in "
                              f"[0, {self.num_nodes_global}), got {nodes.min()}..{nodes.max()}")
-        lo, hi = self.owned
-        extra = nodes[(nodes < lo) | (nodes >= hi)]
+        extra = nodes[self.node_owner[nodes] != self.rank]
         if len(np.setdiff1d(extra, self.ghosts)):
             self._set_ghosts(np.concatenate([self.ghosts, extra]))
 
     # -- numbering ----------------------------------------------------------
     @property
     def num_owned(self) -> int:
-        return self.owned[1] - self.owned[0]
+        return len(self.owned_nodes)
 
     @property
     def num_local(self) -> int:
@@ -151,17 +162,11 @@ class FibreMesh:
 
     def global_to_local(self, nodes) -> np.ndarray:
         """Local index (owned then ghosts) of global nodes; -1 if absent."""
-        nodes = np.asarray(nodes, dtype=np.int64)
-        lo, hi = self.owned
-        out = np.full(nodes.shape, -1, dtype=np.int64)
-        own = (nodes >= lo) & (nodes < hi)
-        out[own] = nodes[own] - lo
-        if len(self.ghosts):
-            k = np.searchsorted(self.ghosts, nodes)
-            k = np.minimum(k, len(self.ghosts) - 1)
-            hit = ~own & (self.ghosts[k] == nodes)
-            out[hit] = (hi - lo) + k[hit]
-        return out
+        return self._local_of[np.asarray(nodes, dtype=np.int64)]
+
+    def owns(self, nodes) -> np.ndarray | bool:
+        """Whether this rank owns the global ``nodes``."""
+        return self.node_owner[nodes] == self.rank
 
     def node(self, fibre: int | Fibre, node: int) -> int:
         """Global number of node ``node`` of ``fibre`` (negative counts from the end)."""

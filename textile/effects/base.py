@@ -47,6 +47,9 @@ class State:
         1, 2, ...: the next iterations, counted on across the linear
         solver's retries of that solve). Effects read the Newton iteration
         from it instead of counting their own calls. 0 otherwise.
+    vector:
+        The global PETSc vector the local arrays view, for effects that
+        read unknowns of other ranks (:class:`~textile.system.node_gather.NodeGather`).
     """
 
     load_factor: float
@@ -54,6 +57,7 @@ class State:
     dofs: dict[str, np.ndarray] = field(default_factory=dict)
     du: dict[str, np.ndarray] = field(default_factory=dict)
     tangent_index: int = 0
+    vector: object = None
 
 
 class Effect:

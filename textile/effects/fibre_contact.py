@@ -226,7 +226,7 @@ FLOOR_DECAY = 0.1
 
 
 def _reduce(comm, values: np.ndarray, op) -> np.ndarray:
-    """Element-wise reduction of a per-zone array over all ranks."""
+    """Element-wise reduction of an array (per zone, per unknown) over all ranks."""
     values = np.ascontiguousarray(values)
     if comm.size > 1:
         comm.Allreduce(MPI.IN_PLACE, values, op=op)
@@ -450,7 +450,8 @@ class FibreContact(Effect):
         self.pattern_margin = 0.5 * rmin
         self.stats = {}
         self._timing = dict(kernel=0.0, total=0.0, kernel_calls=0, off_rank_sent=0,
-                            off_rank_stashed=0)
+                            off_rank_stashed=0, history_bytes_received=0,
+                            gathered_values=0, evaluations=0)
         self.updates = 0
         self.emergency_retunes = 0
         self.retuned_zones = 0
@@ -458,6 +459,7 @@ class FibreContact(Effect):
         self.held_contacts = 0
         self._newton_pending = False  # a Newton solve follows (prepare, or update True)
         self._change = 0.0  # the last update's (update_change)
+        self._node_gather, self._node_gather_set = None, None   # (_positions)
         self._check_order()
 
     # -- detection and history -----------------------------------------------
@@ -499,6 +501,19 @@ class FibreContact(Effect):
         comm = self.model.comm
         return mine if comm.size == 1 else np.concatenate(comm.allgather(mine))
 
+    def _history(self, old):
+        """``old`` plus the other ranks' elements whose successor this rank
+        may evaluate (history_handover.h): the history a new pass inherits
+        from. One exchange between ranks per detection pass."""
+        mesh, comm = self.model.mesh, self.model.comm
+        if comm.size == 1:
+            return old
+        parts = comm.alltoall(old.handover(mesh.node_owner, mesh.rank, mesh.first_node,
+                                           mesh.order, comm.size))
+        received = [p for p in parts if p]
+        self._timing["history_bytes_received"] += sum(len(p) for p in received)
+        return old.with_history(received) if received else old
+
     def _replace_set(self, new) -> None:
         for k, v in self.set.timing().items():
             self._timing[k] += v
@@ -516,11 +531,10 @@ class FibreContact(Effect):
         found = self._detect(q, self._contacts_to_hold(q), self._zone_marks(), persist)
         self.held_contacts += found.held
         before = old.nodal_forces(q)
-        new, inherited = old.next(found, q, mesh.first_node, mesh.order, self.radius, self.k0,
-                                  self.g_r, self._mu(), self.u_rev,
-                                  math.radians(o.parallel_angle), mesh.owned,
-                                  self._order, reset_normals, self._woven, persist,
-                                  **self._friction_args())
+        new, inherited = self._history(old).next(
+            found, q, mesh.first_node, mesh.order, self.radius, self.k0, self.g_r, self._mu(),
+            self.u_rev, math.radians(o.parallel_angle), mesh.node_owner, mesh.rank, self._order,
+            reset_normals, self._woven, persist, **self._friction_args())
         self._set_depths(new)
         self._carry_zone_penalties(new, old, inherited, q)
         new.evaluate(q)
@@ -532,9 +546,11 @@ class FibreContact(Effect):
             self._matrix_has_contact = True
             self.model.request_matrix_rebuild()
         # what matters is what the elements do to the fibres at this state
+        # (summed over the ranks first: an element that moved to another
+        # rank changes both ranks' forces, not the fibres')
         after = new.nodal_forces(q)
-        diff = comm.allreduce(float(np.sum((after - before) ** 2)))
-        size = comm.allreduce(float(np.sum(before ** 2)))
+        change, before = _reduce(comm, after - before, MPI.SUM), _reduce(comm, before, MPI.SUM)
+        diff, size = float(np.sum(change ** 2)), float(np.sum(before ** 2))
         # the change relative to the forces, in units of the tolerance
         # (contacts appearing where there was no force: infinitely large)
         self._change = (math.sqrt(diff / size) / o.update_tolerance if size > 0 else
@@ -709,8 +725,25 @@ class FibreContact(Effect):
             model.request_matrix_rebuild()
 
     # -- assembly --------------------------------------------------------------
+    def _positions(self, state: State) -> np.ndarray:
+        """Current q of the nodes this rank's elements read (on several
+        ranks, NaN at the others): the elements are fixed within a Newton
+        solve, so one NodeGather a set moves just their nodes, where
+        gathering the whole fibre state cost every rank the whole problem."""
+        system = self.model
+        if system.comm.size == 1 or state.vector is None:
+            return system.beam_positions(state)
+        if self._node_gather_set is not self.set:   # a new set: on every rank at once
+            if self._node_gather is not None:
+                self._node_gather.destroy()
+            self._node_gather = system.node_gather(self.set.nodes())
+            self._node_gather_set = self.set
+        self._timing["gathered_values"] += self._node_gather.num_values
+        self._timing["evaluations"] += 1
+        return self._node_gather.positions(state.vector)
+
     def residual_global(self, state: State, b) -> bool:
-        q = self.model.beam_positions(state)
+        q = self._positions(state)
         self.set.set_depth_scale(self._depth_scale())  # the load factor of this evaluation
         # constrained rows too: the model reads them as support reactions
         self.set.assemble_vector(q, self.model.beam_global_dofs(state, constrained=True), b)
@@ -723,7 +756,7 @@ class FibreContact(Effect):
         return True
 
     def jacobian(self, state: State, A) -> None:
-        q = self.model.beam_positions(state)
+        q = self._positions(state)
         self.set.set_depth_scale(self._depth_scale())
         # the first tangents of a Newton solve keep a floor that decays by
         # FLOOR_DECAY an iteration (first contact at zero gap, see
@@ -816,7 +849,8 @@ class FibreContact(Effect):
         q = model.beam_positions(model.state())
         self.set = _cpp.ContactSet.from_saved(columns, num_zones, q, mesh.first_node,
                                               mesh.order, self.radius, self.g_r, self._mu(),
-                                              self.u_rev, mesh.owned, **self._friction_args())
+                                              self.u_rev, mesh.node_owner, mesh.rank,
+                                              **self._friction_args())
         # the weaving stage's depths (not saved: from the reference state);
         # without them a state saved within that stage read the yarns'
         # remaining interpenetration as penetration, and the resumed run
@@ -901,7 +935,12 @@ class FibreContact(Effect):
         the PETSc insertion); "kernel_calls" counts kernel evaluations,
         "off_rank_sent" the node blocks of other ranks' rows this rank sent
         to their owners (added in place there) and "off_rank_stashed" those
-        that went through PETSc's stash instead (MatSetValues)."""
+        that went through PETSc's stash instead (MatSetValues);
+        "history_bytes_received" the other ranks' contact history this rank
+        received at detection passes (:meth:`_history`); on several ranks,
+        "gathered_values" the unknowns of other ranks' nodes moved to this
+        rank for its elements, summed over the "evaluations" (residuals and
+        tangents) that moved them (:meth:`_positions`)."""
         out = dict(self._timing)
         for k, v in self.set.timing().items():
             out[k] += v

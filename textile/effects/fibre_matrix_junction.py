@@ -256,8 +256,7 @@ class FibreMatrixJunctions(Effect):
         mesh.add_ghosts(nodes.ravel())
 
         # couplings (junction, fibre node) whose node this rank does not own
-        lo, hi = mesh.owned
-        off = int(np.count_nonzero((nodes < lo) | (nodes >= hi)))
+        off = int(np.count_nonzero(~mesh.owns(nodes)))
         comm = model.comm
         self.num_junctions = comm.allreduce(len(sel), op=MPI.SUM)
         total_couplings = comm.allreduce(nodes.size, op=MPI.SUM)

@@ -102,7 +102,6 @@ class RigidBodies(Effect):
         # the global fibre node (pins, sections) or the local block node
         self._held = []
         self.block = None
-        lo, hi = mesh.owned
         fibre_nodes_all = []
         for b, body in enumerate(self.bodies):
             for holder in [body] + body.members():
@@ -110,7 +109,7 @@ class RigidBodies(Effect):
                     for f, node in pairs:
                         g = mesh.node(f, node)
                         fibre_nodes_all.append((g, body.slide is not None))
-                        if lo <= g < hi:
+                        if mesh.owns(g):
                             self._held.append((b, holder, kind, g))
                 for entry in holder.block_nodes:
                     self._use_block(entry.block, model)

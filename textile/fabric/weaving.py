@@ -128,6 +128,9 @@ class Weaving:
         overrides it key by key).
     comm:
         MPI communicator.
+    partition:
+        How the fibres are shared out over its ranks (:class:`~textile.Model`):
+        ``"place"`` (default) or ``"numbers"``.
 
     The lifting weave (docs/method.md §6.4) has three stages:
 
@@ -184,7 +187,7 @@ class Weaving:
                  method: str | None = None, settling_steps: int = 16, amplitude: float = 0.55,
                  drag: float = 0.0, lifting_drag: float = 0.0,
                  newton_per_pass: int | None = None, pull: str = "yarn",
-                 preset: str | None = None, comm=MPI.COMM_WORLD):
+                 preset: str | None = None, comm=MPI.COMM_WORLD, partition: str = "place"):
         if not isinstance(fabric, Fabric):
             raise TypeError(f"Weaving: fabric must be a textile.fabric.Fabric, got "
                             f"{type(fabric).__name__}")
@@ -233,7 +236,7 @@ class Weaving:
                              f"convergence), got {newton_per_pass!r}")
         self.newton_per_pass = int(newton_per_pass)
         fibres = fabric.fibres()
-        self.model = Model(fibres, element=element, comm=comm)
+        self.model = Model(fibres, element=element, comm=comm, partition=partition)
         self.contact = FibreContact(contact, fibre_yarn=fabric.fibre_yarn,
                                     yarn_friction=fabric.yarn_friction())
         self.model.add_effect(self.contact)

@@ -40,16 +40,21 @@ class Model:
         :class:`~textile.BeamElement` (order, quadratures); default quadratic.
     comm:
         MPI communicator (default ``MPI.COMM_WORLD``).
+    partition:
+        How the fibres' nodes are shared out over the ranks: ``"place"``
+        (default: boxes of the fabric) or ``"numbers"`` (node ranges, fibre
+        after fibre); :mod:`textile.beam.node_partition`.
     """
 
-    def __init__(self, fibres, element: BeamElement | None = None, comm=MPI.COMM_WORLD):
+    def __init__(self, fibres, element: BeamElement | None = None, comm=MPI.COMM_WORLD,
+                 partition: str = "place"):
         if isinstance(fibres, Fibre):
             fibres = [fibres]
         self.comm = comm
         self.element = element if element is not None else BeamElement()
         if not isinstance(self.element, BeamElement):
             raise TypeError("element must be a textile.BeamElement")
-        self.mesh = FibreMesh(comm, list(fibres), self.element.order)
+        self.mesh = FibreMesh(comm, list(fibres), self.element.order, partition)
         self.beam = BeamElasticity()
         self._forces = NodalForces()
         self._moments = EndMoments()

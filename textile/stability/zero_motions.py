@@ -164,16 +164,16 @@ def _motion_matrix(model, K: PETSc.Mat, motions) -> tuple[PETSc.Mat, np.ndarray]
     mesh = model.mesh
     all_dofs = model.beam_global_dofs(constrained=True)
     rstart, rend = K.getOwnershipRange()
-    lo, hi = mesh.owned
     starts = np.cumsum([0] + [b.shape[1] for _, b in motions])
     rows, cols, vals = [], [], []
     for (f, basis), c0 in zip(motions, starts):
         n0, n1 = mesh.first_node[f], mesh.first_node[f + 1]
-        a, b = max(n0, lo), min(n1, hi)
-        if a >= b:
+        nodes = np.arange(n0, n1)[mesh.owns(np.arange(n0, n1))]
+        if len(nodes) == 0:
             continue
-        block = basis[9 * (a - n0):9 * (b - n0)]
-        r = all_dofs[9 * a:9 * b] - rstart
+        unrolled = (9 * nodes[:, None] + np.arange(9)).ravel()
+        block = basis[unrolled - 9 * n0]
+        r = all_dofs[unrolled] - rstart
         rows.append(np.repeat(r, block.shape[1]))
         cols.append(np.tile(np.arange(c0, c0 + block.shape[1]), len(r)))
         vals.append(block.ravel())

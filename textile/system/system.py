@@ -27,6 +27,7 @@ from ..effects.base import Effect
 from ..solver.convergence import ResidualGroups
 from .constraint_set import ConstraintSet
 from .layout import DofLayout, Field, SparsityBuilder
+from .node_gather import NodeGather
 
 
 class System:
@@ -250,7 +251,7 @@ class System:
         x = self.x if x is None else x
         x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
         arrays = self.layout.get_local(x)
-        st = State(self.load_factor)
+        st = State(self.load_factor, vector=x)
         for f, a in zip(self.layout.fields, arrays):
             st.u[f.name] = a
             st.dofs[f.name] = self.constraint_set.masked[f.name]
@@ -485,8 +486,11 @@ class System:
     def _gather_beam(self, values: np.ndarray) -> np.ndarray:
         """All ranks: (global nodes, 9) from each rank's owned node values."""
         owned = np.ascontiguousarray(values[: 9 * self.mesh.num_owned])
-        parts = self.comm.allgather(owned)
-        return np.concatenate(parts).reshape(-1, 9)
+        if self.comm.size == 1:
+            return owned.reshape(-1, 9)
+        out = np.empty((self.mesh.num_nodes_global, 9))
+        out[self.mesh.nodes_by_rank] = np.concatenate(self.comm.allgather(owned)).reshape(-1, 9)
+        return out
 
     def beam_values(self, x: PETSc.Vec) -> np.ndarray:
         """All ranks: (global nodes, 9) values of the beam unknowns in a
@@ -497,6 +501,10 @@ class System:
     def beam_positions(self, state: State) -> np.ndarray:
         """All ranks: (global nodes, 9) current [x0, g1, g2] from a state."""
         return self.mesh.X_global + self._gather_beam(state.u["beam"])
+
+    def node_gather(self, nodes) -> NodeGather:
+        """A :class:`NodeGather` of global fibre ``nodes`` (collective)."""
+        return NodeGather(self, nodes)
 
     def beam_global_dofs(self, state: State | None = None,
                          constrained: bool = False) -> np.ndarray:
@@ -514,8 +522,8 @@ class System:
         """(masked, all): the global dofs with and without -1 at constrained ones."""
         mesh = self.mesh
         nodes = np.arange(mesh.num_nodes_global)
-        owners = np.searchsorted(mesh.bounds, nodes, side="right") - 1
-        dofs = self.layout.global_dofs("beam", nodes, owners).ravel().astype(np.int32)
+        dofs = self.layout.global_dofs("beam", mesh.imap_index[nodes],
+                                       mesh.node_owner[nodes]).ravel().astype(np.int32)
         # the one constrained set (prescribed dofs and effects' constraints),
         # from every rank's local part
         local = self.constraint_set.dofs.get("beam", np.zeros(0, dtype=np.int64))

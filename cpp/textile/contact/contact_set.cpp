@@ -171,6 +171,21 @@ std::size_t ContactSet::run_kernels(std::span<const double> q)
   return count;
 }
 
+std::vector<std::int64_t> ContactSet::nodes() const
+{
+  std::vector<std::int64_t> out;
+  for (const auto& e : _elements)
+  {
+    for (int a = 0; a < e.particle_i.patch_nodes(); ++a)
+      out.push_back(e.nodes_i[a]);
+    for (int a = 0; a < e.particle_j.patch_nodes(); ++a)
+      out.push_back(e.nodes_j[a]);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 std::vector<double> ContactSet::nodal_forces(std::span<const double> q) const
 {
   std::vector<double> out(q.size(), 0.0);

@@ -30,19 +30,26 @@
 namespace textile::contact
 {
 
-/// Whether this rank evaluates (and assembles) the element between fibres
-/// i and j whose first nodes are node_i and node_j, with this rank owning
-/// global nodes [owned.first, owned.second). The owner of the first node on
-/// fibre i when i + j is even, on fibre j when odd: a fibre pair stays on
-/// one rank while its fibres slide (its history stays where it is), and the
-/// pairs of fibres on different ranks (every warp-weft pair when the ranks
-/// split the fibres into warp and weft) are shared out between the two
-/// ranks instead of all falling to the rank of the lower fibre.
-inline bool evaluated_here(int fibre_i, int fibre_j, std::int64_t node_i, std::int64_t node_j,
-                           std::pair<std::int64_t, std::int64_t> owned)
+/// Which rank owns each global fibre node (the fibre mesh's partition,
+/// textile/beam/node_partition.py), and this rank.
+struct NodeOwners
 {
-  const std::int64_t node = (fibre_i + fibre_j) % 2 == 0 ? node_i : node_j;
-  return node >= owned.first and node < owned.second;
+  std::span<const std::int32_t> owner; ///< by global node number
+  int rank = 0;
+  bool owns(std::int64_t node) const { return owner[node] == rank; }
+};
+
+/// Whether this rank evaluates (and assembles) the element between fibres
+/// i and j whose first nodes are node_i and node_j. The owner of the first
+/// node on fibre i when i + j is even, on fibre j when odd: when the ranks
+/// split the fibres into warp and weft (the partition by number), the pairs
+/// of fibres on different ranks are shared out between the two ranks
+/// instead of all falling to the rank of the lower fibre; partitioned by
+/// place, both nodes are mostly the same rank's.
+inline bool evaluated_here(int fibre_i, int fibre_j, std::int64_t node_i, std::int64_t node_j,
+                           const NodeOwners& owners)
+{
+  return owners.owns((fibre_i + fibre_j) % 2 == 0 ? node_i : node_j);
 }
 
 /// One contact element with everything held fixed during a Newton solve
@@ -131,6 +138,10 @@ public:
   /// Contact forces on every unknown (9 per global node, like q) at q:
   /// lets two element sets be compared by what they do to the fibres.
   std::vector<double> nodal_forces(std::span<const double> q) const;
+
+  /// The global fibre nodes the elements read (their particles' patches),
+  /// sorted, each once: the part of q an evaluation needs.
+  std::vector<std::int64_t> nodes() const;
 
   /// After a converged step: move the stick points of slipping elements
   /// (from the results of the last evaluate()).

@@ -82,7 +82,7 @@ std::vector<int> match_history(std::span<const ContactPoint> points,
 std::pair<ContactSet, ZoneInheritance>
 next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c,
                  std::span<const double> q, const ElementParameters& par,
-                 std::pair<std::int64_t, std::int64_t> owned)
+                 const NodeOwners& owners)
 {
   const auto& previous = old.elements();
   const std::size_t nz = d.zones.size();
@@ -144,7 +144,7 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
     std::array<std::int64_t, 3> nodes, nodes_j; // of the particles' elements
     element_of(c, p.fibre_i, p.s_i, nodes);
     element_of(c, p.fibre_j, p.s_j, nodes_j);
-    if (!evaluated_here(p.fibre_i, p.fibre_j, nodes[0], nodes_j[0], owned))
+    if (!evaluated_here(p.fibre_i, p.fibre_j, nodes[0], nodes_j[0], owners))
       continue;
     const Eigen::Vector3d previous_normal
         = from and !par.reset_normals ? from->normal : Eigen::Vector3d::Zero();

@@ -26,8 +26,8 @@ namespace textile::contact
 
 /// For each new contact point, the index of the old element of the same
 /// fibre pair with the smallest |s_i - s_i'| + |s_j - s_j'| (element
-/// coordinates), if that is below max_distance (0.75: within one element on
-/// both fibres); -1 if there is none. Ties go to the lower index.
+/// coordinates), if that is below max_distance (history_match_distance,
+/// tolerances.h); -1 if there is none. Ties go to the lower index.
 ///
 /// Old elements are sorted by the key (fibre_i, fibre_j, element of s_i),
 /// and a point looks only at the keys whose element is within max_distance
@@ -35,7 +35,7 @@ namespace textile::contact
 /// every element of its fibre pair was O(points x old).
 std::vector<int> match_history(std::span<const ContactPoint> points,
                                std::span<const ContactElementState> old,
-                               double max_distance = 0.75);
+                               double max_distance = history_match_distance);
 
 /// What the zones of a new pass inherit from one rank's old elements. Zone
 /// numbers come from the (replicated) detection pass, so every rank has the
@@ -103,6 +103,6 @@ struct ElementParameters
 std::pair<ContactSet, ZoneInheritance>
 next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c,
                  std::span<const double> q, const ElementParameters& par,
-                 std::pair<std::int64_t, std::int64_t> owned);
+                 const NodeOwners& owners);
 
 } // namespace textile::contact

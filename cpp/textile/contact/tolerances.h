@@ -120,4 +120,11 @@ inline constexpr double hold_fraction = 0.9;
 /// tests/contact/test_frictionless_drag.py (fails at 1).
 inline constexpr double persist_drift = 0.01;
 
+/// How far (|s_i - s_i'| + |s_j - s_j'|, element lengths) a new contact
+/// point may be from an old element to take over its history
+/// (match_history, history_transfer.h): within one element on both fibres.
+/// It also bounds which ranks may evaluate an element's successor
+/// (history_handover.h; on two ranks, tests/contact/test_capstan.py).
+inline constexpr double history_match_distance = 0.75;
+
 } // namespace textile::contact
