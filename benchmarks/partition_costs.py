@@ -23,10 +23,10 @@ Two parts (issue 23 item 3):
 
     .venv/bin/python benchmarks/partition_costs.py
     mpirun -n 2 .venv/bin/python benchmarks/partition_costs.py --run [--steps 2]
-        [--partition numbers]
+        [--partition numbers] [--yarns 2] [--solver '{}']
 
 Writes ``output/partition_costs.json`` (part 1) and
-``output/partition_costs_run_<ranks>_<partition>.json`` (part 2).
+``output/partition_costs_run_<yarns>_<ranks>_<partition>.json`` (part 2).
 """
 from __future__ import annotations
 
@@ -165,13 +165,14 @@ def from_partition() -> dict:
     return dict(cases=out)
 
 
-def measured(steps: int, comm, partition: str) -> dict:
-    """The sample's first ``steps`` weaving steps on this communicator."""
+def measured(steps: int, comm, partition: str, solver_options: dict, yarns: int = 6) -> dict:
+    """The sample's first ``steps`` weaving steps on this communicator
+    (``yarns`` a direction)."""
     from textile.fabric import Weaving
     from textile.effects.fibre_contact import FibreContact
     yarn = Yarn(28, R, MAT, packing="layers 1")
-    fabric = Fabric(yarn, num_warp=6, num_weft=6, spacing=2 * yarn.width, pattern="plain",
-                    elements_per_crossing=4)
+    fabric = Fabric(yarn, num_warp=yarns, num_weft=yarns, spacing=2 * yarn.width,
+                    pattern="plain", elements_per_crossing=4)
     weaving = Weaving(fabric, steps=5, comm=comm, partition=partition)
     model = weaving.model
 
@@ -182,7 +183,7 @@ def measured(steps: int, comm, partition: str) -> dict:
         if len(s.history) >= steps:
             raise Enough
 
-    solver = textile.Solver(model, dict(verbose=comm.rank == 0), on_step=stop)
+    solver = textile.Solver(model, dict(solver_options, verbose=comm.rank == 0), on_step=stop)
     t0 = time.perf_counter()
     try:
         solver.run(weaving.stages())
@@ -199,7 +200,9 @@ def measured(steps: int, comm, partition: str) -> dict:
                 history_bytes=timing["history_bytes_received"], evaluations=evaluations,
                 peak_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
     per_rank = comm.gather(mine, root=0)
-    return dict(ranks=comm.size, partition=partition, steps=steps, wall_seconds=wall,
+    return dict(ranks=comm.size, partition=partition, yarns=yarns, steps=steps,
+                wall_seconds=wall,
+                solver_options=solver_options,
                 newton_iterations=sum(h.newton_iterations for h in solver.history),
                 per_rank=per_rank, counters=solver.counters)
 
@@ -209,6 +212,9 @@ def main():
     parser.add_argument("--run", action="store_true", help="measure the first weaving steps")
     parser.add_argument("--steps", type=int, default=2, help="weaving steps measured (--run)")
     parser.add_argument("--partition", default="place", help="place or numbers (--run)")
+    parser.add_argument("--yarns", type=int, default=6, help="yarns a direction (--run)")
+    parser.add_argument("--solver", type=json.loads, default={"low_rank_tolerance": 1e-8},
+                        help="solver options as JSON (--run; default BLR 1e-8 as weave_sample)")
     args = parser.parse_args()
     comm = MPI.COMM_WORLD
     os.makedirs(OUT, exist_ok=True)
@@ -220,11 +226,11 @@ def main():
             with open(os.path.join(OUT, "partition_costs.json"), "w") as f:
                 json.dump(result, f, indent=1)
         return
-    result = measured(args.steps, comm, args.partition)
+    result = measured(args.steps, comm, args.partition, args.solver, args.yarns)
     if comm.rank == 0:
         result.update(stamp)
         print(json.dumps({k: v for k, v in result.items() if k != "counters"}, indent=1))
-        name = f"partition_costs_run_{comm.size}_{args.partition}.json"
+        name = f"partition_costs_run_{args.yarns}_{comm.size}_{args.partition}.json"
         with open(os.path.join(OUT, name), "w") as f:
             json.dump(result, f, indent=1)
 

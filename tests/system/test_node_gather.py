@@ -28,6 +28,7 @@ def test_each_rank_gets_the_nodes_it_asks_for():
         assert np.any(mesh.node_owner[wanted] != comm.rank)
     gather = model.system.node_gather(wanted)
     assert gather.num_values == 9 * len(wanted)
+    assert gather.num_remote == 9 * np.count_nonzero(mesh.node_owner[wanted] != comm.rank)
     q = gather.positions(model.x)
     np.testing.assert_array_equal(q[wanted], everything[wanted])   # the same numbers
     others = np.setdiff1d(np.arange(mesh.num_nodes_global), wanted)

@@ -738,7 +738,7 @@ class FibreContact(Effect):
                 self._node_gather.destroy()
             self._node_gather = system.node_gather(self.set.nodes())
             self._node_gather_set = self.set
-        self._timing["gathered_values"] += self._node_gather.num_values
+        self._timing["gathered_values"] += self._node_gather.num_remote
         self._timing["evaluations"] += 1
         return self._node_gather.positions(state.vector)
 

@@ -28,6 +28,8 @@ class NodeGather:
         mesh = system.mesh
         dofs = system.beam_global_dofs(constrained=True).reshape(-1, 9)[self.nodes]
         self._reference = mesh.X_global[self.nodes]
+        #: unknowns of other ranks' nodes among them (what travels at each call)
+        self.num_remote = 9 * int(np.count_nonzero(mesh.node_owner[self.nodes] != mesh.rank))
         self._values = PETSc.Vec().createSeq(dofs.size, comm=PETSc.COMM_SELF)
         index = PETSc.IS().createGeneral(dofs.ravel().astype(PETSc.IntType), comm=PETSc.COMM_SELF)
         self._scatter = PETSc.Scatter().create(system.x, index, self._values, None)
@@ -37,7 +39,7 @@ class NodeGather:
 
     @property
     def num_values(self) -> int:
-        """Unknowns moved to this rank at each call."""
+        """Unknowns gathered at each call (this rank's own among them)."""
         return self._values.getSize()
 
     def positions(self, x: PETSc.Vec) -> np.ndarray:
