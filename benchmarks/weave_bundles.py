@@ -45,7 +45,7 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
           relaxation_steps: int = 1, make_up: bool = False, method: str = "ordered",
           free_length: float = 0.5, twist: float = 0.0, newton_per_pass=None,
           lifting_drag: float = 0.0, pattern: str = "plain", num: int = 2,
-          pull: str = "yarn") -> dict:
+          pull: str = "yarn", verbose: bool = False) -> dict:
     # a twisted yarn's fibres lie on helices: a clearance keeps neighbours apart
     yarn = Yarn(fibres, R, MAT, packing="hexagonal", twist=twist / R,
                 **({"clearance": 0.1} if twist else {}))
@@ -60,7 +60,7 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
     stages = weaving.stages()
     if method == "lifting":
         t0 = time.perf_counter()
-        solver = textile.Solver(weaving.model, dict(verbose=False))
+        solver = textile.Solver(weaving.model, dict(verbose=verbose))
         error = ""
         try:
             solver.run(stages)
@@ -78,7 +78,7 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
         weaving.model.add_effect(effect)
         stages[0].effects[effect] = dict(coefficient=lambda s: drag * (1 - s) ** 2)
         stages[1].effects[effect] = dict(coefficient=0.0)
-    solver = textile.Solver(weaving.model, dict(verbose=False))
+    solver = textile.Solver(weaving.model, dict(verbose=verbose))
     t0 = time.perf_counter()
     error = ""
     try:
@@ -130,6 +130,7 @@ def main():
     p.add_argument("--pull", choices=("yarn", "fibre"), default="yarn",
                    help="lifting: Weaving's pull (a pull body per yarn or per fibre)")
     p.add_argument("--pattern", default="plain", help="weave pattern (e.g. \"twill 2/2\")")
+    p.add_argument("--verbose", action="store_true", help="one line per step (long runs)")
     p.add_argument("--yarns", type=int, default=2, help="yarns each way")
     p.add_argument("--twist", type=float, default=0.0,
                    help="yarn twist, turns per fibre radius (e.g. 0.016667: a turn per 60 R)")
@@ -146,7 +147,7 @@ def main():
         row = weave(fibres, args.spacing, easy, drag, args.relax, MPI.COMM_SELF,
                     args.relaxation_steps, args.make_up, args.method, free, args.twist,
                     args.newton_per_pass, args.lifting_drag, args.pattern, args.yarns,
-                    args.pull)
+                    args.pull, args.verbose)
         rows.append(row)
         print(f"{fibres} fibres, {args.method}, easy_iterations {easy}, drag {drag:g}: "
               f"{row['stage']} s={row['load_factor']:.3f}, "

@@ -162,7 +162,7 @@ void declare_contact(py::module_& m)
 {
   py::class_<Detection>(m, "Detection",
                         "One detection pass: proximity zones and the contact points on their "
-                        "intermediate geometries (replicated: every rank finds the same).")
+                        "intermediate geometries (on several ranks, among the fibres a rank holds).")
       .def_property_readonly("num_zones", [](const Detection& d) { return d.zones.size(); })
       .def_property_readonly("size", [](const Detection& d) { return d.points.size(); })
       .def_readonly("held", &Detection::held, "Points added for held contacts.")
@@ -185,16 +185,42 @@ void declare_contact(py::module_& m)
             return out;
           },
           "The contact points as a dict of arrays (zone, fibres, abscissas, contact length, "
-          "crossing flag, intermediate tangent, centroid gap).");
+          "crossing flag, intermediate tangent, centroid gap).")
+      .def(
+          "zone_keys",
+          [](const Detection& d)
+          {
+            std::vector<double> k = zone_keys(d);
+            carray<double> out({static_cast<py::ssize_t>(d.zones.size()), py::ssize_t(9)});
+            std::copy(k.begin(), k.end(), out.mutable_data());
+            return out;
+          },
+          "(zones, 9): each zone as every rank that finds it computes it (fibre_i, fibre_j, "
+          "a_i, b_i, a_j, b_j, s_i, s_j, held contact index or -1): the key of the zone "
+          "numbers ranks share.")
+      .def(
+          "renumber_zones",
+          [](Detection& d, const carray<int>& global_of_local, int num_zones)
+          {
+            renumber_zones(d, std::span(global_of_local.data(), global_of_local.size()),
+                           num_zones);
+          },
+          py::arg("global_of_local"), py::arg("num_zones"),
+          "Zone z becomes zone global_of_local[z] of num_zones (detection.h).");
 
   m.def(
       "detect_contacts",
       [](const carray<double>& q, const carray<std::int64_t>& first_node, int order,
          const carray<double>& radius, double delta_factor, double self_exclusion, double spacing,
          double parallel_angle, const py::object& held, const WeavingOrder* weaving,
-         const carray<double>& zones, bool keep_kinds)
+         const carray<double>& zones, bool keep_kinds, const py::object& present)
       {
         Geometry geo(q, first_node, order, radius);
+        if (!present.is_none())
+        {
+          const auto p = present.cast<carray<bool>>();
+          geo.lines.present.assign(p.data(), p.data() + p.size());
+        }
         const SectionVectors g{geo.g};
         if (zones.size() % 5 != 0)
           throw std::invalid_argument("detect_contacts: zones must be (n, 5)");
@@ -218,6 +244,7 @@ void declare_contact(py::module_& m)
       py::arg("delta_factor"), py::arg("self_exclusion"), py::arg("spacing"),
       py::arg("parallel_angle"), py::arg("held") = py::none(), py::arg("weaving") = nullptr,
       py::arg("zones") = carray<double>(), py::arg("keep_kinds") = false,
+      py::arg("present") = py::none(),
       "One detection pass on the current nodal unknowns q (nodes x 9): a Detection. `held`: "
       "contacts of the last pass not to lose (ContactSet.contacts_to_hold, gathered from "
       "every rank), kept as zones of their own where detection finds none. `weaving`: the "
@@ -225,7 +252,8 @@ void declare_contact(py::module_& m)
       "(n, 5) fibre_i, fibre_j, s_i, s_j, kind (0 crossing, 1 wrap, 2 line contact) of the "
       "last pass's zones, gathered from every rank (ContactSet.zone_marks): the hysteresis of "
       "the wrap and crossing criteria. `keep_kinds`: the passes within a step keep each "
-      "marked zone's kind outright.");
+      "marked zone's kind outright. `present`: one bool per fibre, the fibres whose nodes q "
+      "holds (None: all); detection leaves the others out.");
 
   py::class_<WeavingOrder>(m, "WeavingOrder",
                            "Crossing order of the weaving stage: fibre -> yarn, and "

@@ -506,3 +506,46 @@ TEST(ProximityZonesRandom, GridFindsTheSameClosePairsAsBruteForce)
     EXPECT_EQ(again[k].b_j, zones[k].b_j);
   }
 }
+
+// A rank detects among the fibres it holds (Centrelines::present): the
+// zones between two present fibres are exactly those of a pass over all
+// fibres, whatever the absent fibres' coordinates.
+TEST(ProximityZonesRandom, PresentFibresGiveTheZonesOfAllFibresBetweenThem)
+{
+  const auto all = random_bundle(100, 20, 6.0, 11);
+  const double delta = 2.5, excl = 0.3;
+  const auto zones = find_proximity_zones(all, delta, excl);
+  auto part = all;
+  part.present.assign(all.num_fibres(), 0);
+  for (int f = 0; f < all.num_fibres(); f += 3)
+    part.present[f] = part.present[f + 1 < all.num_fibres() ? f + 1 : f] = 1;
+  for (int f = 0; f < part.num_fibres(); ++f)
+    if (!part.has(f)) // not on this rank
+      for (auto i = 3 * part.fibre_offsets[f]; i < 3 * part.fibre_offsets[f + 1]; ++i)
+        part.x[i] = std::numeric_limits<double>::quiet_NaN();
+  const auto found = find_proximity_zones(part, delta, excl);
+  std::vector<ProximityZone> expected;
+  for (const auto& z : zones)
+    if (part.has(z.fibre_i) and part.has(z.fibre_j))
+      expected.push_back(z);
+  ASSERT_GT(expected.size(), 10u);
+  ASSERT_LT(expected.size(), zones.size());
+  ASSERT_EQ(found.size(), expected.size());
+  for (std::size_t k = 0; k < found.size(); ++k)
+  {
+    EXPECT_EQ(found[k].fibre_i, expected[k].fibre_i);
+    EXPECT_EQ(found[k].fibre_j, expected[k].fibre_j);
+    // bit for bit: ranks that find a zone number it by these values
+    EXPECT_EQ(found[k].a_i, expected[k].a_i);
+    EXPECT_EQ(found[k].b_i, expected[k].b_i);
+    EXPECT_EQ(found[k].a_j, expected[k].a_j);
+    EXPECT_EQ(found[k].b_j, expected[k].b_j);
+    EXPECT_EQ(found[k].s_i, expected[k].s_i);
+    EXPECT_EQ(found[k].s_j, expected[k].s_j);
+  }
+  // a NaN on a present fibre is still a diverged state
+  part.x[3 * part.fibre_offsets[0]] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(find_proximity_zones(part, delta, excl), textile::GeometryError);
+  part.present.pop_back();
+  EXPECT_THROW(part.validate(), std::invalid_argument);
+}

@@ -3,8 +3,10 @@
 Detection, geometry, normals, history transfer, laws, penalty adaptation
 and assembly are in C++ (``cpp/textile/contact/``); this effect runs the
 algorithm of docs/method.md §9.2 around Newton and does the few MPI
-reductions, all on per-zone arrays (zone numbers come from the replicated
-detection pass, so every rank agrees on them):
+reductions, all on per-zone arrays. On several ranks each rank detects
+among its own fibres and those near them (detection_view.py), and the
+zones' keys number them as one rank would (:meth:`FibreContact._number_zones`),
+so every rank agrees on the zone numbers:
 
 - ``prepare`` (start of a step attempt, at the last converged state):
   retune the zone penalties for this step (between steps: no Newton solve
@@ -47,6 +49,7 @@ from mpi4py import MPI
 from .. import _cpp
 from ..options import Options
 from .base import Effect, State
+from .detection_view import DetectionView
 
 
 @dataclass(frozen=True)
@@ -451,7 +454,7 @@ class FibreContact(Effect):
         self.stats = {}
         self._timing = dict(kernel=0.0, total=0.0, kernel_calls=0, off_rank_sent=0,
                             off_rank_stashed=0, history_bytes_received=0,
-                            gathered_values=0, evaluations=0)
+                            gathered_values=0, evaluations=0, zone_keys_received=0)
         self.updates = 0
         self.emergency_retunes = 0
         self.retuned_zones = 0
@@ -460,18 +463,75 @@ class FibreContact(Effect):
         self._newton_pending = False  # a Newton solve follows (prepare, or update True)
         self._change = 0.0  # the last update's (update_change)
         self._node_gather, self._node_gather_set = None, None   # (_positions)
+        self._view = None   # on several ranks, at the first pass (_pass_positions)
         self._check_order()
 
     # -- detection and history -----------------------------------------------
     def _detect(self, q: np.ndarray, held: dict | None = None,
-                zones: np.ndarray | None = None, keep_kinds: bool = False):
+                zones: np.ndarray | None = None, keep_kinds: bool = False,
+                present: np.ndarray | None = None):
         mesh = self.model.mesh
         return _cpp.detect_contacts(q, mesh.first_node, mesh.order, self.radius,
                                     self.options.search_factor, self.self_exclusion,
                                     self.spacing, math.radians(self.options.parallel_angle),
                                     held, self._order,
                                     np.zeros((0, 5)) if zones is None else zones,
-                                    keep_kinds)
+                                    keep_kinds, present)
+
+    def _pass_positions(self, state: State, old, history) -> tuple[np.ndarray, dict, object]:
+        """q for a detection pass (on several ranks: the fibres this rank
+        detects among, NaN elsewhere, see detection_view.py), the held
+        contacts of every rank, and which fibres q holds (None: all).
+        ``old`` is evaluated at q."""
+        comm = self.model.comm
+        if comm.size == 1:
+            q = self.model.beam_positions(state)
+            old.evaluate(q)
+            return q, self._contacts_to_hold(q), None
+        if self._view is None:
+            self._view = DetectionView(self.model, self.radius, self.options.search_factor)
+        view, x = self._view, state.vector
+        fibre_of_node = view.fibre_of_node
+        # its last elements (evaluated here) and the history handed to it:
+        # the zones they match into are found here, as on one rank
+        extra = np.unique(fibre_of_node[history.nodes()])
+        present = view.present(x, extra)
+        q = view.positions(x, present)
+        old.evaluate(q)
+        held = self._contacts_to_hold(q)
+        # a held contact on a fibre of this rank's: both its fibres
+        own = np.zeros_like(present)
+        own[view.own_fibres] = True
+        touching = own[held["fibre_i"]] | own[held["fibre_j"]]
+        more = np.zeros_like(present)
+        more[held["fibre_i"][touching]] = more[held["fibre_j"][touching]] = True
+        more &= ~present
+        if comm.allreduce(bool(more.any()), op=MPI.LOR):   # a new scatter: collective
+            present |= more
+            q = view.positions(x, present)
+        return q, held, present
+
+    def _number_zones(self, found) -> None:
+        """The zone numbers of one rank's detection (among the fibres it
+        holds) made those of a detection among all fibres: each zone's key
+        from every rank, sorted as detection sorts its zones (held
+        contacts' zones last, in their order). Zones found on several ranks
+        have equal keys: the same fibres, whole, give the same numbers."""
+        keys = found.zone_keys()
+        parts = self.model.comm.allgather(keys)
+        self._timing["zone_keys_received"] += sum(len(p) for p in parts) - len(keys)
+        start = sum(len(p) for p in parts[:self.model.comm.rank])
+        unique, inverse = np.unique(np.vstack(parts), axis=0, return_inverse=True)
+        inverse = inverse.reshape(-1)
+        held = unique[:, 8]
+        detected, from_held = np.flatnonzero(held < 0), np.flatnonzero(held >= 0)
+        u = unique[detected]
+        # (fibre_i, fibre_j, a_i, a_j, b_i, b_j), as group_into_zones sorts
+        detected = detected[np.lexsort((u[:, 5], u[:, 3], u[:, 4], u[:, 2], u[:, 1], u[:, 0]))]
+        from_held = from_held[np.argsort(held[from_held], kind="stable")]
+        number = np.empty(len(unique), dtype=np.intc)
+        number[np.r_[detected, from_held]] = np.arange(len(unique), dtype=np.intc)
+        found.renumber_zones(number[inverse[start:start + len(keys)]], len(unique))
 
     def _friction_args(self) -> dict:
         """The fibres' yarns and the yarns' coefficients (ContactSet.next),
@@ -483,8 +543,9 @@ class FibreContact(Effect):
 
     def _contacts_to_hold(self, q: np.ndarray) -> dict:
         """The closed elements of every rank (at the set's last evaluation)
-        that the next detection might lose (``held_contact.h``): detection is
-        replicated, so each rank gets all of them."""
+        that the next detection might lose (``held_contact.h``): each rank
+        gets all of them, in rank order (a held contact's zone number is its
+        place in this list), and keeps those between fibres it holds."""
         mesh, comm = self.model.mesh, self.model.comm
         mine = self.set.contacts_to_hold(q, mesh.first_node, mesh.order, self.radius,
                                          self.options.search_factor)
@@ -519,19 +580,24 @@ class FibreContact(Effect):
             self._timing[k] += v
         self.set = new
 
-    def _rebuild(self, q: np.ndarray, reset_normals: bool = False, persist: bool = False) -> bool:
+    def _rebuild(self, state: State, reset_normals: bool = False,
+                 persist: bool = False) -> bool:
         """Detect, carry history, set normals and zone penalties; True if
-        the contact forces at q changed beyond update_tolerance. ``persist``
-        (the passes within a step): zones keep their kind (detection.h,
-        keep_kinds) and line contacts found again keep their elements
-        (ElementParameters::persist in history_transfer.h)."""
+        the contact forces at the state changed beyond update_tolerance.
+        ``persist`` (the passes within a step): zones keep their kind
+        (detection.h, keep_kinds) and line contacts found again keep their
+        elements (ElementParameters::persist in history_transfer.h)."""
         o, mesh, comm = self.options, self.model.mesh, self.model.comm
         old = self.set
-        old.evaluate(q)  # elastic slips, zone forces and held contacts from this state
-        found = self._detect(q, self._contacts_to_hold(q), self._zone_marks(), persist)
+        history = self._history(old)
+        # old evaluated there: elastic slips, zone forces and held contacts
+        q, held, present = self._pass_positions(state, old, history)
+        found = self._detect(q, held, self._zone_marks(), persist, present)
+        if present is not None:
+            self._number_zones(found)
         self.held_contacts += found.held
         before = old.nodal_forces(q)
-        new, inherited = self._history(old).next(
+        new, inherited = history.next(
             found, q, mesh.first_node, mesh.order, self.radius, self.k0, self.g_r, self._mu(),
             self.u_rev, math.radians(o.parallel_angle), mesh.node_owner, mesh.rank, self._order,
             reset_normals, self._woven, persist, **self._friction_args())
@@ -642,13 +708,14 @@ class FibreContact(Effect):
         self.updates = 0
         self.emergency_retunes = 0
         self.penalty_conversions = 0
-        q = model.beam_positions(model.state())
+        state = model.state()
         if self._make_up and self._make_up_reference is None:
-            self._make_up_reference = q.copy()   # the stage's start
+            # the stage's start, whole: its elements are not yet known
+            self._make_up_reference = model.beam_positions(state).copy()
         self.set.set_depth_scale(self._depth_scale())
         self.held_contacts = 0
         # after a mode change, every attempt's first pass sets normals anew
-        self._rebuild(q, reset_normals=self._reset_normals)
+        self._rebuild(state, reset_normals=self._reset_normals)
         self._newton_pending = True
 
     def _check_crossed(self) -> None:
@@ -686,12 +753,12 @@ class FibreContact(Effect):
 
     def update(self, model) -> bool:
         self.updates += 1
-        q = model.beam_positions(model.state())
-        self.set.evaluate(q)
+        state = model.state()
+        self.set.evaluate(self._positions(state, count=False))
         self._check_crossed()
         emergency = self._retune(in_step=True)
         self.emergency_retunes += emergency
-        changed = self._rebuild(q, persist=True) or emergency > 0
+        changed = self._rebuild(state, persist=True) or emergency > 0
         if emergency and not self._change > 1.0:
             self._change = math.inf  # penalties retuned: Newton must run again
         # another Newton solve follows only if something changed (not, e.g.,
@@ -725,7 +792,7 @@ class FibreContact(Effect):
             model.request_matrix_rebuild()
 
     # -- assembly --------------------------------------------------------------
-    def _positions(self, state: State) -> np.ndarray:
+    def _positions(self, state: State, count: bool = True) -> np.ndarray:
         """Current q of the nodes this rank's elements read (on several
         ranks, NaN at the others): the elements are fixed within a Newton
         solve, so one NodeGather a set moves just their nodes, where
@@ -738,8 +805,9 @@ class FibreContact(Effect):
                 self._node_gather.destroy()
             self._node_gather = system.node_gather(self.set.nodes())
             self._node_gather_set = self.set
-        self._timing["gathered_values"] += self._node_gather.num_remote
-        self._timing["evaluations"] += 1
+        if count:
+            self._timing["gathered_values"] += self._node_gather.num_remote
+            self._timing["evaluations"] += 1
         return self._node_gather.positions(state.vector)
 
     def residual_global(self, state: State, b) -> bool:
@@ -940,11 +1008,27 @@ class FibreContact(Effect):
         received at detection passes (:meth:`_history`); on several ranks,
         "gathered_values" the unknowns of other ranks' nodes moved to this
         rank for its elements, summed over the "evaluations" (residuals and
-        tangents) that moved them (:meth:`_positions`)."""
-        out = dict(self._timing)
+        tangents) that moved them (:meth:`_positions`); "detection_values"
+        the unknowns of other ranks' nodes moved for detection passes,
+        "detection_pieces" the other ranks' fibre pieces received,
+        "own_fibres" the fibres with elements of this rank's and
+        "ghost_fibres" the others the last pass held (detection_view.py),
+        "zone_keys_received" the other ranks' zones that numbered this
+        rank's (:meth:`_number_zones`)."""
+        out = dict(self._timing, detection_values=0, detection_pieces=0, ghost_fibres=0,
+                   own_fibres=len(self.radius))
+        if self._view is not None:
+            out.update(self._view.counts)
         for k, v in self.set.timing().items():
             out[k] += v
         return out
+
+    def detection_fibres(self) -> np.ndarray:
+        """One flag per fibre: the fibres this rank's last detection pass
+        held (its own and its ghosts, detection_view.py; on one rank all)."""
+        if self._view is None:
+            return np.ones(len(self.radius), dtype=bool)
+        return self._view.last_present.copy()
 
     def nodal_forces(self) -> np.ndarray:
         """(nodes, 9): this rank's contact elements' generalized forces on

@@ -83,10 +83,18 @@ void Centrelines::validate() const
   }
   // a state's coordinates, not the caller's input: a diverged iterate is a
   // domain error (the step is cut), not a bug
-  for (std::size_t i = 0; i < x.size(); ++i)
-    if (!std::isfinite(x[i]))
-      throw GeometryError("Centrelines: coordinate " + std::to_string(i % 3) + " of node "
-                          + std::to_string(i / 3) + " is NaN or infinite");
+  if (!present.empty() and present.size() != nfib)
+    throw std::invalid_argument("Centrelines: present has " + std::to_string(present.size())
+                                + " flags for " + std::to_string(nfib) + " fibres");
+  for (std::size_t f = 0; f < nfib; ++f)
+  {
+    if (!has(static_cast<int>(f)))
+      continue;
+    for (auto i = 3 * fibre_offsets[f]; i < 3 * fibre_offsets[f + 1]; ++i)
+      if (!std::isfinite(x[i]))
+        throw GeometryError("Centrelines: coordinate " + std::to_string(i % 3) + " of node "
+                            + std::to_string(i / 3) + " is NaN or infinite");
+  }
 }
 
 int Centrelines::num_fibres() const { return static_cast<int>(fibre_offsets.size()) - 1; }
@@ -146,6 +154,8 @@ std::vector<Segment> make_segments(const Centrelines& c)
   segs.reserve(c.x.size() / 3);
   for (int f = 0; f < c.num_fibres(); ++f)
   {
+    if (!c.has(f))
+      continue;
     const int ne = c.num_elements(f);
     double arc = 0.0;
     for (int e = 0; e < ne; ++e)

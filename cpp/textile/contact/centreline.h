@@ -30,12 +30,21 @@ struct Centrelines
   std::vector<std::int64_t> fibre_offsets;  ///< first node of each fibre, size nfib+1, starts at 0
   int order = 1;                            ///< element order: 1 (2 nodes) or 2 (3 nodes)
   std::vector<double> radius;               ///< fibre radius (length, > 0), one per fibre
+  /// Which fibres this view holds (one flag per fibre; empty: all). On
+  /// several ranks a rank detects among the fibres near its own elements
+  /// (textile/effects/fibre_contact.py, ghost fibres): the others' nodes
+  /// are not here (NaN), and detection leaves those fibres out.
+  std::vector<char> present;
+
+  /// Whether fibre f's nodes are in this view (see `present`).
+  bool has(int f) const { return present.empty() or present[f] != 0; }
 
   /// Throws std::invalid_argument naming the first inconsistency: order not
   /// 1 or 2, offsets not starting at 0 / decreasing / not ending at the node
   /// count, a fibre without a whole number (>= 1) of elements, a radius that
-  /// is not finite and positive; GeometryError for a coordinate that is NaN
-  /// or infinite (a diverged state).
+  /// is not finite and positive, `present` not one flag per fibre;
+  /// GeometryError for a coordinate of a present fibre that is NaN or
+  /// infinite (a diverged state).
   void validate() const;
 
   /// Number of fibres.
@@ -84,6 +93,7 @@ struct Segment
 /// All segments, fibre after fibre, in increasing abscissa: the global
 /// segment number of (fibre f, index k) is the number of segments of the
 /// fibres before f plus k. Validates `c` first.
+/// (Fibres not present, see Centrelines::present, have none.)
 std::vector<Segment> make_segments(const Centrelines& c);
 
 } // namespace textile::contact

@@ -81,6 +81,41 @@ ContactElementState restore_element(const Centrelines& c, const SavedElement& sa
   return e;
 }
 
+void renumber_zones(Detection& d, std::span<const int> global_of_local, int num_zones)
+{
+  if (global_of_local.size() != d.zones.size())
+    throw std::invalid_argument("renumber_zones: " + std::to_string(global_of_local.size())
+                                + " numbers for " + std::to_string(d.zones.size()) + " zones");
+  std::vector<ProximityZone> zones(num_zones);
+  for (std::size_t z = 0; z < d.zones.size(); ++z)
+  {
+    const int g = global_of_local[z];
+    if (g < 0 or g >= num_zones)
+      throw std::invalid_argument("renumber_zones: zone number " + std::to_string(g)
+                                  + " outside 0 .. " + std::to_string(num_zones - 1));
+    zones[g] = d.zones[z];
+  }
+  for (int& z : d.zone_of_point)
+    z = global_of_local[z];
+  d.zones = std::move(zones);
+}
+
+std::vector<double> zone_keys(const Detection& d)
+{
+  const std::size_t first_held = d.zones.size() - d.held_source.size();
+  std::vector<double> out;
+  out.reserve(9 * d.zones.size());
+  for (std::size_t z = 0; z < d.zones.size(); ++z)
+  {
+    const ProximityZone& p = d.zones[z];
+    const double held = z >= first_held ? d.held_source[z - first_held] : -1.0;
+    for (double v : {double(p.fibre_i), double(p.fibre_j), p.a_i, p.b_i, p.a_j, p.b_j, p.s_i,
+                     p.s_j, held})
+      out.push_back(v);
+  }
+  return out;
+}
+
 std::vector<ZoneMark> zone_marks(const ContactSet& set)
 {
   std::vector<ZoneMark> out;

@@ -21,7 +21,23 @@ struct Detection
   std::vector<ContactPoint> points;
   std::vector<int> zone_of_point;
   int held = 0; ///< points added by add_held_contacts (held_contact.h)
+  /// the zones add_held_contacts appended (the last held_source.size()
+  /// zones): the index of each one's held contact in its list
+  std::vector<int> held_source;
 };
+
+/// Zone numbers shared by all ranks (a rank that detects among the fibres
+/// near its own finds only some zones): `global_of_local[z]` for each
+/// zone of d, in 0 .. num_zones - 1. The zones are renumbered in place
+/// (zones without a local one are empty placeholders), and d.zones gets
+/// num_zones entries. Throws std::invalid_argument for a size mismatch or
+/// a number outside the range.
+void renumber_zones(Detection& d, std::span<const int> global_of_local, int num_zones);
+
+/// Each zone of d as the key every rank that finds it computes alike
+/// (fibre_i, fibre_j, a_i, b_i, a_j, b_j, s_i, s_j, held contact index
+/// or -1): 9 values a zone, row-major.
+std::vector<double> zone_keys(const Detection& d);
 
 /// What a zone of the last pass was: a crossing, a wrap (wrap_contact.h)
 /// or a line contact.
@@ -42,7 +58,7 @@ struct ZoneMark
 };
 
 /// One element of each of the set's zones (this rank's; gather them from
-/// every rank for detect, which is replicated).
+/// every rank for detect: a zone may pass to a rank that had none of it).
 std::vector<ZoneMark> zone_marks(const ContactSet& set);
 
 /// Find zones closer than delta_factor (r_i + r_j) and place their contact

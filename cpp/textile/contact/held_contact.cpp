@@ -54,9 +54,11 @@ int add_held_contacts(Detection& d, const Centrelines& c, const SectionVectors& 
                       std::span<const HeldContact> held)
 {
   int added = 0;
-  for (const auto& h : held)
+  for (std::size_t k = 0; k < held.size(); ++k)
   {
-    if (covered(d, h))
+    const HeldContact& h = held[k];
+    // a fibre this rank does not hold: another rank's (Centrelines::present)
+    if (!c.has(h.fibre_i) or !c.has(h.fibre_j) or covered(d, h))
       continue;
     ContactPoint p;
     p.fibre_i = h.fibre_i;
@@ -91,6 +93,7 @@ int add_held_contacts(Detection& d, const Centrelines& c, const SectionVectors& 
                     p.s_i, p.s_j};
     d.zone_of_point.push_back(static_cast<int>(d.zones.size()));
     d.zones.push_back(z);
+    d.held_source.push_back(static_cast<int>(k));
     d.points.push_back(p);
     ++added;
   }

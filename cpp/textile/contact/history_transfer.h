@@ -38,8 +38,8 @@ std::vector<int> match_history(std::span<const ContactPoint> points,
                                double max_distance = history_match_distance);
 
 /// What the zones of a new pass inherit from one rank's old elements. Zone
-/// numbers come from the (replicated) detection pass, so every rank has the
-/// same arrays' meaning: reduce them over ranks (MAX, MIN, MAX, MAX) to get
+/// numbers are shared by the ranks (renumber_zones in detection.h), so
+/// every rank has the same arrays' meaning: reduce them over ranks (MAX, MIN, MAX, MAX) to get
 /// the whole picture.
 struct ZoneInheritance
 {
