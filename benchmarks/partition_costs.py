@@ -9,14 +9,16 @@ Two parts (issue 23 item 3):
    (:mod:`textile.beam.node_partition`). The contact couplings are the
    pairs of elements of different fibres whose chords, in the reference
    state, come closer than the contact search's distance (the yarns'
-   crossings and each fibre's neighbours in its yarn). Per rank: owned nodes, beam ghosts, contact
-   pairs evaluated, fibre nodes of other ranks that these pairs read (what
-   :class:`~textile.system.node_gather.NodeGather` moves at every
-   residual and tangent), the share of pairs coupling two ranks, and an
-   estimate of its memory, split into what is distributed (matrix rows,
-   vectors, contact elements) and what is still replicated on every rank
-   (the fibre geometry and full-length node arrays, the contact search's
-   points).
+   crossings and each fibre's neighbours in its yarn). Per rank: owned
+   nodes, beam ghosts, contact pairs evaluated, fibre nodes of other ranks
+   that these pairs read (what :class:`~textile.system.node_gather.NodeGather`
+   moves at every residual and tangent), the fibres its detection holds
+   (own and ghosts, :mod:`textile.effects.detection_view`) and their nodes
+   of other ranks (moved once a detection pass), the share of pairs
+   coupling two ranks, and an estimate of its memory, split into what is
+   distributed (matrix rows, vectors, contact elements, the search's points
+   among the fibres it holds) and what is still replicated on every rank
+   (the fibre geometry and full-length node arrays).
 2. **Measured** (``--run``, under ``mpirun -n N``): the first steps of the
    sample's weaving; the contact's counters give the values moved per
    evaluation and the node blocks sent to other ranks.
@@ -98,6 +100,33 @@ def contact_pairs(mesh: FibreMesh, search_factor: float = 2.0) -> np.ndarray:
     return pairs[near]
 
 
+def detection_fibres(mesh: FibreMesh, element_owner: np.ndarray, ranks: int,
+                     search_factor: float = 2.0) -> np.ndarray:
+    """(ranks, fibres) flags: the fibres each rank detects among in the
+    reference state, its own and its ghosts (DetectionView.present: per
+    rank and fibre the box of its elements widened by search_factor r;
+    straight elements, no sag)."""
+    X = mesh.X_global[:, :3]
+    e, f = mesh.elements_global, mesh.element_fibre
+    num_fibres = len(mesh.fibres)
+    reach = search_factor * np.array([fb.radius for fb in mesh.fibres])[f]
+    lo, hi = X[e].min(axis=1) - reach[:, None], X[e].max(axis=1) + reach[:, None]
+    key = element_owner.astype(np.int64) * num_fibres + f
+    pieces, inverse = np.unique(key, return_inverse=True)
+    box_lo = np.full((len(pieces), 3), np.inf)
+    box_hi = np.full((len(pieces), 3), -np.inf)
+    np.minimum.at(box_lo, inverse, lo)
+    np.maximum.at(box_hi, inverse, hi)
+    piece_rank, piece_fibre = pieces // num_fibres, pieces % num_fibres
+    flags = np.zeros((ranks, num_fibres), dtype=bool)
+    for r in range(ranks):
+        mine = piece_rank == r
+        hit = np.all((box_lo[None, :, :] <= box_hi[mine][:, None, :])
+                     & (box_lo[mine][:, None, :] <= box_hi[None, :, :]), axis=2)
+        flags[r, piece_fibre[np.any(hit, axis=0)]] = True
+    return flags
+
+
 def figures(mesh: FibreMesh, pairs: np.ndarray, partition: str, ranks: int) -> dict:
     """Per-rank figures (max and mean over ranks) of one partition."""
     e = mesh.elements_global
@@ -105,13 +134,16 @@ def figures(mesh: FibreMesh, pairs: np.ndarray, partition: str, ranks: int) -> d
     owner = node_owners(partition, ranks, mesh.X_global, e)
     element_owner = owner[e[:, 0]]
     f = mesh.element_fibre
+    held = detection_fibres(mesh, element_owner, ranks)
+    fibre_of_node = np.repeat(np.arange(len(mesh.fibres)), np.diff(mesh.first_node))
     # evaluated_here: the first node of the element on fibre i when the
     # fibre numbers' sum is even, on fibre j when odd
     even = (f[pairs[:, 0]] + f[pairs[:, 1]]) % 2 == 0
     evaluator = np.where(even, element_owner[pairs[:, 0]], element_owner[pairs[:, 1]])
     read = np.hstack([e[pairs[:, 0]], e[pairs[:, 1]]])          # nodes a pair reads
     coupling = (owner[read] != owner[read[:, :1]]).any(axis=1)
-    rows = dict(owned=[], ghosts=[], pairs=[], gathered_nodes=[], distributed_mb=[])
+    rows = dict(owned=[], ghosts=[], pairs=[], gathered_nodes=[], detection_fibres=[],
+                detection_nodes=[], distributed_mb=[])
     for r in range(ranks):
         owned = int(np.count_nonzero(owner == r))
         mine = e[element_owner == r]
@@ -120,18 +152,22 @@ def figures(mesh: FibreMesh, pairs: np.ndarray, partition: str, ranks: int) -> d
         gathered = len(np.unique(theirs[owner[theirs] != r]))
         # contact rows: each pair adds 2 x 3 node blocks of 9 x 9 to rows of its nodes
         contact_nonzeros = 2 * 81 * 3 * int(np.count_nonzero(evaluator == r))
+        # detection: the pairs between fibres this rank holds, and the other
+        # ranks' nodes of those fibres (moved once a pass)
+        searched = int(np.count_nonzero(held[r, f[pairs[:, 0]]] & held[r, f[pairs[:, 1]]]))
+        detection_nodes = int(np.count_nonzero(held[r, fibre_of_node] & (owner != r)))
         distributed = (owned * 9 * BEAM_COUPLINGS * NONZERO + contact_nonzeros * NONZERO
                        + (owned + ghosts) * 9 * DOUBLE * VECTORS
-                       + int(np.count_nonzero(evaluator == r)) * CONTACT_ELEMENT)
+                       + int(np.count_nonzero(evaluator == r)) * CONTACT_ELEMENT
+                       + searched * CONTACT_POINT)
         for k, v in zip(rows, (owned, ghosts, int(np.count_nonzero(evaluator == r)), gathered,
-                               distributed / 2 ** 20)):
+                               int(held[r].sum()), detection_nodes, distributed / 2 ** 20)):
             rows[k].append(v)
     # replicated on every rank: reference and current geometry (3 full
-    # (nodes, 9) arrays: X, the search's q, the gather's q), node owners and
-    # numbering (20 bytes a node), the element table, and the contact
-    # search over every pair (each rank detects all of them today)
-    replicated = (3 * n * 9 * DOUBLE + 20 * n + e.size * 8
-                  + len(pairs) * CONTACT_POINT) / 2 ** 20
+    # (nodes, 9) arrays: X, the search's q, the gather's q, NaN where the
+    # rank has no values), node owners and numbering (20 bytes a node), the
+    # element table
+    replicated = (3 * n * 9 * DOUBLE + 20 * n + e.size * 8) / 2 ** 20
     out = {k: dict(max=float(np.max(v)), mean=float(np.mean(v))) for k, v in rows.items()}
     out.update(ranks=ranks, partition=partition, coupling_pairs=float(coupling.mean()),
                replicated_mb=replicated,
@@ -150,14 +186,17 @@ def from_partition() -> dict:
         print(f"\n{yarns} x {yarns} yarns: {case['fibres']} fibres, {case['nodes']} nodes, "
               f"{case['pairs']} contact pairs")
         print(f"{'partition':<9} {'ranks':>5} {'owned':>7} {'ghosts':>6} {'pairs':>7} "
-              f"{'gathered':>8} {'coupling':>8} {'distr MB':>9} {'repl MB':>8} {'total MB':>9}")
+              f"{'gathered':>8} {'det fib':>7} {'det nodes':>9} {'coupling':>8} "
+              f"{'distr MB':>9} {'repl MB':>8} {'total MB':>9}")
         for partition in ("place", "numbers"):
             for ranks in (1, 2, 8, 64):
                 row = figures(mesh, pairs, partition, ranks)
                 case["rows"].append(row)
                 print(f"{partition:<9} {ranks:5d} {row['owned']['max']:7.0f} "
                       f"{row['ghosts']['max']:6.0f} {row['pairs']['max']:7.0f} "
-                      f"{row['gathered_nodes']['max']:8.0f} {row['coupling_pairs']:8.3f} "
+                      f"{row['gathered_nodes']['max']:8.0f} "
+                      f"{row['detection_fibres']['max']:7.0f} "
+                      f"{row['detection_nodes']['max']:9.0f} {row['coupling_pairs']:8.3f} "
                       f"{row['distributed_mb']['max']:9.1f} {row['replicated_mb']:8.1f} "
                       f"{row['total_mb_max']:9.1f}")
         case["seconds"] = time.perf_counter() - t0
@@ -198,6 +237,16 @@ def measured(steps: int, comm, partition: str, solver_options: dict, yarns: int 
                 elements=contact.set.size, gathered_values=timing["gathered_values"],
                 off_rank_sent=timing["off_rank_sent"],
                 history_bytes=timing["history_bytes_received"], evaluations=evaluations,
+                detection_passes=timing["detection_passes"],
+                detection_values=timing["detection_values"],
+                detection_pieces=timing["detection_pieces"],
+                zone_keys_received=timing["zone_keys_received"],
+                own_fibres=timing["own_fibres"], ghost_fibres=timing["ghost_fibres"],
+                whole_state_values=9 * mesh.num_nodes_global,
+                detection_seconds=timing["detection_seconds"],
+                contact_assembly_seconds=timing["total"],
+                effect_seconds={f"{k[0]} {k[1]}": v
+                                for k, v in model.system.effect_seconds.items()},
                 peak_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
     per_rank = comm.gather(mine, root=0)
     return dict(ranks=comm.size, partition=partition, yarns=yarns, steps=steps,

@@ -41,6 +41,7 @@ import dataclasses
 
 import math
 import numbers
+import time
 from dataclasses import dataclass
 
 import numpy as np
@@ -454,7 +455,8 @@ class FibreContact(Effect):
         self.stats = {}
         self._timing = dict(kernel=0.0, total=0.0, kernel_calls=0, off_rank_sent=0,
                             off_rank_stashed=0, history_bytes_received=0,
-                            gathered_values=0, evaluations=0, zone_keys_received=0)
+                            gathered_values=0, evaluations=0, zone_keys_received=0,
+                            detection_passes=0, detection_seconds=0.0)
         self.updates = 0
         self.emergency_retunes = 0
         self.retuned_zones = 0
@@ -587,6 +589,14 @@ class FibreContact(Effect):
         ``persist`` (the passes within a step): zones keep their kind
         (detection.h, keep_kinds) and line contacts found again keep their
         elements (ElementParameters::persist in history_transfer.h)."""
+        self._timing["detection_passes"] += 1
+        start = time.perf_counter()
+        try:
+            return self._pass(state, reset_normals, persist)
+        finally:
+            self._timing["detection_seconds"] += time.perf_counter() - start
+
+    def _pass(self, state: State, reset_normals: bool, persist: bool) -> bool:
         o, mesh, comm = self.options, self.model.mesh, self.model.comm
         old = self.set
         history = self._history(old)
@@ -1014,7 +1024,9 @@ class FibreContact(Effect):
         "own_fibres" the fibres with elements of this rank's and
         "ghost_fibres" the others the last pass held (detection_view.py),
         "zone_keys_received" the other ranks' zones that numbered this
-        rank's (:meth:`_number_zones`)."""
+        rank's (:meth:`_number_zones`), over "detection_passes", which
+        took "detection_seconds" (all of each pass: exchanges, detection,
+        history, new elements)."""
         out = dict(self._timing, detection_values=0, detection_pieces=0, ghost_fibres=0,
                    own_fibres=len(self.radius))
         if self._view is not None:
