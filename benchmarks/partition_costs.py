@@ -18,8 +18,7 @@ Two parts (issue 23 item 3):
    coupling two ranks, and an estimate of its memory, split into what is
    distributed (matrix rows, vectors, contact elements, the search's points
    among the fibres it holds) and what is still replicated on every rank
-   (the fibre geometry and full-length node arrays, the zones' keys and
-   per-zone arrays).
+   (the fibre geometry and full-length node arrays, the per-zone arrays).
 2. **Measured** (``--run``, under ``mpirun -n N``): the first steps of the
    sample's weaving; the contact's counters give the values moved per
    evaluation and the node blocks sent to other ranks.
@@ -53,11 +52,11 @@ OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "output")
 R = 0.1e-3
 MAT = textile.Material(5.0e9, 0.35)
 #: bytes a rank keeps per unit (estimates; the matrix row: 12 bytes a
-#: nonzero, value and column index; a zone: its 72-byte key, exchanged at
-#: each pass, and 8 per-zone arrays of doubles reduced over the ranks)
+#: nonzero, value and column index; a zone: 8 per-zone arrays of doubles,
+#: of every zone on every rank, reduced over the ranks)
 #: a contact element (ContactElementState, 512 bytes) and a detected
 #: point (ContactPoint, 200 bytes): sizeof on this build
-NONZERO, DOUBLE, CONTACT_ELEMENT, CONTACT_POINT, ZONE = 12, 8, 512, 200, 72 + 8 * 8
+NONZERO, DOUBLE, CONTACT_ELEMENT, CONTACT_POINT, ZONE = 12, 8, 512, 200, 8 * 8
 BEAM_COUPLINGS = 45          # nonzeros of a beam row: 5 nodes x 9 (quadratic elements)
 VECTORS = 10                 # work vectors of the global size (Newton, SNES, MUMPS' rhs)
 
@@ -168,8 +167,8 @@ def figures(mesh: FibreMesh, pairs: np.ndarray, partition: str, ranks: int) -> d
     # replicated on every rank: reference and current geometry (3 full
     # (nodes, 9) arrays: X, the search's q, the gather's q, NaN where the
     # rank has no values), node owners and numbering (20 bytes a node), the
-    # element table, and the zones (about one a pair of touching fibres:
-    # every rank numbers all of them, FibreContact._number_zones)
+    # element table, and the per-zone arrays (about one zone a pair of
+    # touching fibres; every rank has all of them)
     fibre_pairs = np.unique(f[pairs[:, 0]] * len(mesh.fibres) + f[pairs[:, 1]])
     replicated = (3 * n * 9 * DOUBLE + 20 * n + e.size * 8
                   + len(fibre_pairs) * ZONE) / 2 ** 20

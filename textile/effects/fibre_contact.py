@@ -5,8 +5,7 @@ and assembly are in C++ (``cpp/textile/contact/``); this effect runs the
 algorithm of docs/method.md §9.2 around Newton and does the few MPI
 reductions, all on per-zone arrays. On several ranks each rank detects
 among its own fibres and those near them (detection_view.py), and the
-zones' keys number them as one rank would (:meth:`FibreContact._number_zones`),
-so every rank agrees on the zone numbers:
+ranks agree on the zone numbers (:meth:`FibreContact._number_zones`):
 
 - ``prepare`` (start of a step attempt, at the last converged state):
   retune the zone penalties for this step (between steps: no Newton solve
@@ -513,27 +512,34 @@ class FibreContact(Effect):
             q = view.positions(x, present)
         return q, held, present
 
-    def _number_zones(self, found) -> None:
-        """The zone numbers of one rank's detection (among the fibres it
-        holds) made those of a detection among all fibres: each zone's key
-        from every rank, sorted as detection sorts its zones (held
-        contacts' zones last, in their order). Zones found on several ranks
-        have equal keys: the same fibres, whole, give the same numbers."""
+    def _number_zones(self, found, present: np.ndarray) -> None:
+        """Zone numbers every rank agrees on, for one rank's detection
+        among the fibres it holds (``present``). A zone between two fibres
+        that several ranks hold is found by each of them alike (the same
+        fibres, whole, give the same zone, bit for bit): these *shared*
+        zones are numbered last, by their keys (Detection.zone_keys), which
+        the ranks exchange. Every other zone is found by one rank only and
+        takes a number in that rank's block. What travels is the fibres
+        each rank holds (a bit a fibre) and the shared zones' keys, not
+        every zone."""
+        comm = self.model.comm
         keys = found.zone_keys()
-        parts = self.model.comm.allgather(keys)
-        self._timing["zone_keys_received"] += sum(len(p) for p in parts) - len(keys)
-        start = sum(len(p) for p in parts[:self.model.comm.rank])
-        unique, inverse = np.unique(np.vstack(parts), axis=0, return_inverse=True)
-        inverse = inverse.reshape(-1)
-        held = unique[:, 8]
-        detected, from_held = np.flatnonzero(held < 0), np.flatnonzero(held >= 0)
-        u = unique[detected]
-        # (fibre_i, fibre_j, a_i, a_j, b_i, b_j), as group_into_zones sorts
-        detected = detected[np.lexsort((u[:, 5], u[:, 3], u[:, 4], u[:, 2], u[:, 1], u[:, 0]))]
-        from_held = from_held[np.argsort(held[from_held], kind="stable")]
-        number = np.empty(len(unique), dtype=np.intc)
-        number[np.r_[detected, from_held]] = np.arange(len(unique), dtype=np.intc)
-        found.renumber_zones(number[inverse[start:start + len(keys)]], len(unique))
+        bits = comm.allgather(np.packbits(present))
+        held_by = np.unpackbits(np.vstack(bits), axis=1, count=len(present)).astype(bool)
+        fibre_i, fibre_j = keys[:, 0].astype(np.int64), keys[:, 1].astype(np.int64)
+        shared = np.count_nonzero(held_by[:, fibre_i] & held_by[:, fibre_j], axis=0) > 1
+        parts = comm.allgather((int(np.count_nonzero(~shared)), keys[shared]))
+        counts = [p[0] for p in parts]
+        self._timing["zone_keys_received"] += sum(len(p[1]) for p in parts) - int(shared.sum())
+        own_block, start = sum(counts), sum(counts[:comm.rank])
+        number = np.empty(len(keys), dtype=np.intc)
+        number[~shared] = start + np.arange(counts[comm.rank], dtype=np.intc)
+        offsets = np.cumsum([0] + [len(p[1]) for p in parts])
+        unique, inverse = np.unique(np.vstack([p[1] for p in parts]).reshape(-1, 9), axis=0,
+                                    return_inverse=True)
+        inverse = inverse.reshape(-1)[offsets[comm.rank]:offsets[comm.rank + 1]]
+        number[shared] = own_block + inverse
+        found.renumber_zones(number, own_block + len(unique))
 
     def _friction_args(self) -> dict:
         """The fibres' yarns and the yarns' coefficients (ContactSet.next),
@@ -604,7 +610,7 @@ class FibreContact(Effect):
         q, held, present = self._pass_positions(state, old, history)
         found = self._detect(q, held, self._zone_marks(), persist, present)
         if present is not None:
-            self._number_zones(found)
+            self._number_zones(found, present)
         self.held_contacts += found.held
         before = old.nodal_forces(q)
         new, inherited = history.next(
@@ -870,7 +876,12 @@ class FibreContact(Effect):
         out = {k: np.concatenate([p[k] for p in parts]) for k in self.SAVED}
         order = np.lexsort((out["s_j"], out["s_i"], out["fibre_j"], out["fibre_i"]))
         out = {k: v[order] for k, v in out.items()}
-        out.update(num_zones=np.int64(self._committed.num_zones),
+        # zones numbered by their first element in this order: the numbers
+        # the ranks agreed on depend on the partition, the file must not
+        _, first, inverse = np.unique(out["zone"], return_index=True, return_inverse=True)
+        out["zone"] = np.argsort(np.argsort(first))[inverse.reshape(-1)].astype(
+            out["zone"].dtype)
+        out.update(num_zones=np.int64(len(first)),
                    mode=np.int64(self.MODES.index(self.mode)),
                    reset_normals=np.int64(self._reset_normals))
         if self._order is not None:
