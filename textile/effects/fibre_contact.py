@@ -552,8 +552,8 @@ class FibreContact(Effect):
     def _contacts_to_hold(self, q: np.ndarray) -> dict:
         """The closed elements of every rank (at the set's last evaluation)
         that the next detection might lose (``held_contact.h``): each rank
-        gets all of them, in rank order (a held contact's zone number is its
-        place in this list), and keeps those between fibres it holds."""
+        gets all of them, in rank order (a held contact's place in this list
+        is part of its zone's key), and keeps those between fibres it holds."""
         mesh, comm = self.model.mesh, self.model.comm
         mine = self.set.contacts_to_hold(q, mesh.first_node, mesh.order, self.radius,
                                          self.options.search_factor)
