@@ -35,20 +35,12 @@ class DetectionView:
         mesh = system.mesh
         self.system, self.mesh = system, mesh
         self.comm = system.comm
-        order = mesh.order
-        fibre_of_node = np.repeat(np.arange(len(mesh.first_node) - 1),
-                                  np.diff(mesh.first_node))
-        # every element's first node: not a fibre's last node, and on the
-        # element grid of its fibre
-        local = np.arange(mesh.num_nodes_global) - mesh.first_node[fibre_of_node]
-        last = np.r_[np.diff(fibre_of_node) != 0, True]
-        first = np.flatnonzero((local % order == 0) & ~last)
-        own = first[mesh.node_owner[first] == mesh.rank]
         #: (own elements, order + 1) global nodes, and their fibres
-        self.element_nodes = own[:, None] + np.arange(order + 1)
-        self.element_fibre = fibre_of_node[own]
+        self.element_nodes = mesh.elements_global[mesh.local_element_ids]
+        self.element_fibre = mesh.element_fibre[mesh.local_element_ids]
         #: the fibre of every global node
-        self.fibre_of_node = fibre_of_node
+        self.fibre_of_node = np.repeat(np.arange(len(mesh.first_node) - 1),
+                                       np.diff(mesh.first_node))
         self.own_fibres = np.unique(self.element_fibre)
         self.reach = search_factor * np.asarray(radius, dtype=float)
         self._own_gather = system.node_gather(self.element_nodes.ravel())
@@ -67,10 +59,10 @@ class DetectionView:
         p = q[self.element_nodes]                       # (elements, nodes, 3)
         sag = (np.linalg.norm(p[:, 0] - 2 * p[:, 1] + p[:, 2], axis=1) / 8
                if self.mesh.order == 2 else np.zeros(len(p)))
-        # round-off: boxes touching within it count as overlapping
         widen = self.reach[self.element_fibre] + sag
         lo = p.min(axis=1) - widen[:, None]
         hi = p.max(axis=1) + widen[:, None]
+        # round-off: boxes touching within it count as overlapping
         slack = 1e-9 * (np.abs(lo).max() + np.abs(hi).max() + 1.0)
         order = np.argsort(self.element_fibre, kind="stable")
         fibres, starts = np.unique(self.element_fibre[order], return_index=True)
