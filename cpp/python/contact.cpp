@@ -165,7 +165,9 @@ void declare_contact(py::module_& m)
                         "intermediate geometries (on several ranks, among the fibres a rank holds).")
       .def_property_readonly("num_zones", [](const Detection& d) { return d.zones.size(); })
       .def_property_readonly("size", [](const Detection& d) { return d.points.size(); })
-      .def_readonly("held", &Detection::held, "Points added for held contacts.")
+      .def_property_readonly(
+          "held", [](const Detection& d) { return d.held_source.size(); },
+          "Points added for held contacts (one a held zone).")
       .def(
           "arrays",
           [](const Detection& d)
@@ -237,7 +239,7 @@ void declare_contact(py::module_& m)
         Detection d = detect(geo.lines, g, delta_factor, self_exclusion, spacing, parallel_angle,
                              weaving, marks, keep_kinds);
         if (!held.is_none())
-          d.held = add_held_contacts(d, geo.lines, g, held_from_arrays(held.cast<py::dict>()));
+          add_held_contacts(d, geo.lines, g, held_from_arrays(held.cast<py::dict>()));
         return d;
       },
       py::arg("q"), py::arg("first_node"), py::arg("order"), py::arg("radius"),
@@ -324,8 +326,10 @@ void declare_contact(py::module_& m)
              double penalty, double g_r, double mu, double u_rev, double parallel_angle,
              const carray<std::int32_t>& node_owner, int rank, const WeavingOrder* weaving,
              bool reset_normals, const WeavingOrder* woven, bool persist,
-             const py::object& group, const py::object& group_mu)
+             const py::object& group, const py::object& group_mu, int crossing_patch)
           {
+            if (crossing_patch != 1 and crossing_patch != 2)
+              throw std::invalid_argument("ContactSet.next: crossing_patch must be 1 or 2");
             Geometry geo(q, first_node, order, radius);
             const FrictionCoefficients coefficients = friction_coefficients(
                 mu, group, group_mu, radius.size());
@@ -335,6 +339,7 @@ void declare_contact(py::module_& m)
             par.reset_normals = reset_normals;
             par.woven = woven;
             par.persist = persist;
+            par.crossing_patch = crossing_patch;
             auto [set, zones] = next_contact_set(self, found, geo.lines, cspan(q), par,
                                                 NodeOwners{cspan(node_owner), rank});
             py::dict inherited;
@@ -350,6 +355,7 @@ void declare_contact(py::module_& m)
           py::arg("weaving") = nullptr,
           py::arg("reset_normals") = false, py::arg("woven") = nullptr, py::arg("persist") = false,
           py::arg("group") = py::none(), py::arg("group_mu") = py::none(),
+          py::arg("crossing_patch") = 2,
           "The set of detection pass `found` with history from this one (evaluated by this "
           "rank: evaluated_here in contact_set.h), and what each new zone inherits. "
           "`weaving`: a WeavingOrder whose ordered pairs take the vertical normal; "
@@ -363,8 +369,10 @@ void declare_contact(py::module_& m)
              const carray<std::int64_t>& first_node, int order, const carray<double>& radius,
              double g_r, double mu, double u_rev, const carray<std::int32_t>& node_owner,
              int rank,
-             const py::object& group, const py::object& group_mu)
+             const py::object& group, const py::object& group_mu, int crossing_patch)
           {
+            if (crossing_patch != 1 and crossing_patch != 2)
+              throw std::invalid_argument("ContactSet.from_saved: crossing_patch must be 1 or 2");
             const FrictionCoefficients coefficients = friction_coefficients(
                 mu, group, group_mu, radius.size());
             Geometry geo(q, first_node, order, radius);
@@ -415,7 +423,8 @@ void declare_contact(py::module_& m)
                                                 : Eigen::Vector3d::Zero()};
               const RegularizedCoulomb friction{coefficients.mu(saved.fibre_i, saved.fibre_j),
                                                 u_rev};
-              ContactElementState el = restore_element(geo.lines, saved, g_r, friction, cspan(q));
+              ContactElementState el
+                  = restore_element(geo.lines, saved, g_r, friction, cspan(q), crossing_patch);
               if (evaluated_here(el.fibre_i, el.fibre_j, el.element_node_i(), el.element_node_j(),
                                  NodeOwners{cspan(node_owner), rank}))
                 elements.push_back(el);
@@ -425,7 +434,7 @@ void declare_contact(py::module_& m)
           py::arg("saved"), py::arg("num_zones"), py::arg("q"), py::arg("first_node"),
           py::arg("order"), py::arg("radius"), py::arg("g_r"), py::arg("mu"), py::arg("u_rev"),
           py::arg("node_owner"), py::arg("rank"), py::arg("group") = py::none(),
-          py::arg("group_mu") = py::none(),
+          py::arg("group_mu") = py::none(), py::arg("crossing_patch") = 2,
           "The elements of a saved state (a dict of the data() columns, all ranks' elements) "
           "that this rank evaluates (evaluated_here in contact_set.h).")
       .def(

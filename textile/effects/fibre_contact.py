@@ -116,6 +116,16 @@ class ContactOptions(Options):
         structure lets it (a residual of 1e13 after 3e-3). The floor fades
         within a few iterations (quadratic convergence again); the residual
         is the law's, so the converged answer does not change. 0: off.
+    crossing_patch:
+        How far a crossing's contact point may move within one Newton solve
+        (docs/method.md §4.2, *facing*): 2 (default) over its element and the
+        neighbour across the nearer node, so it passes a node smoothly; 1
+        over its own element (the next detection pass moves it on). A
+        crossing then couples 3 nodes a side instead of 5: on fabrics of
+        wide flat yarns, where each crossing couples every fibre of one yarn
+        with every fibre of the other, the tangent has about half the
+        entries and its factorization costs about a quarter (measured in
+        benchmarks/README.md, "Crossing patches").
     update_tolerance:
         After a converged Newton, the elements are re-detected and re-normaled
         at the new state; another Newton is run when the contact forces of the
@@ -139,6 +149,7 @@ class ContactOptions(Options):
     self_contact: bool = True
     tangent_floor: float = 1.0
     update_tolerance: float = 1e-3
+    crossing_patch: int = 2
 
     kind = "contact"
 
@@ -170,6 +181,9 @@ class ContactOptions(Options):
         if not 0 < lo <= 1 <= 0.75 * hi:
             raise ValueError(f"ContactOptions.penalty_band must be (low, high) with "
                              f"0 < low <= 1 <= 3/4 high, got {self.penalty_band!r}")
+        if self.crossing_patch not in (1, 2) or isinstance(self.crossing_patch, bool):
+            raise ValueError(f"ContactOptions.crossing_patch must be 1 or 2 (elements), got "
+                             f"{self.crossing_patch!r}")
         if not (_real(self.tangent_floor) and 0 <= self.tangent_floor <= 1):
             raise ValueError(f"ContactOptions.tangent_floor must be in [0, 1], got "
                              f"{self.tangent_floor!r}")
@@ -616,7 +630,8 @@ class FibreContact(Effect):
         new, inherited = history.next(
             found, q, mesh.first_node, mesh.order, self.radius, self.k0, self.g_r, self._mu(),
             self.u_rev, math.radians(o.parallel_angle), mesh.node_owner, mesh.rank, self._order,
-            reset_normals, self._woven, persist, **self._friction_args())
+            reset_normals, self._woven, persist, **self._friction_args(),
+            crossing_patch=o.crossing_patch)
         self._set_depths(new)
         self._carry_zone_penalties(new, old, inherited, q)
         new.evaluate(q)
@@ -939,7 +954,8 @@ class FibreContact(Effect):
         self.set = _cpp.ContactSet.from_saved(columns, num_zones, q, mesh.first_node,
                                               mesh.order, self.radius, self.g_r, self._mu(),
                                               self.u_rev, mesh.node_owner, mesh.rank,
-                                              **self._friction_args())
+                                              **self._friction_args(),
+                                              crossing_patch=self.options.crossing_patch)
         # the weaving stage's depths (not saved: from the reference state);
         # without them a state saved within that stage read the yarns'
         # remaining interpenetration as penetration, and the resumed run

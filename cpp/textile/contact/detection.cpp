@@ -60,7 +60,7 @@ Detection detect(const Centrelines& c, const SectionVectors& g, double delta_fac
 
 ContactElementState restore_element(const Centrelines& c, const SavedElement& saved, double g_r,
                                     const RegularizedCoulomb& friction,
-                                    std::span<const double> q)
+                                    std::span<const double> q, int crossing_patch)
 {
   const ContactPoint p{.fibre_i = saved.fibre_i, .fibre_j = saved.fibre_j,
                        .s_i = saved.s_i,         .s_j = saved.s_j,
@@ -69,7 +69,8 @@ ContactElementState restore_element(const Centrelines& c, const SavedElement& sa
                        .crossing = saved.crossing, .wrap = saved.wrap,
                        .length = saved.length};
   ContactElementState e = make_element(c, p, saved.zone, saved.normal, saved.penalty, g_r,
-                                       friction, Eigen::Vector3d::Zero(), q, saved.gap_kind);
+                                       friction, Eigen::Vector3d::Zero(), q, saved.gap_kind,
+                                       crossing_patch);
   e.stick = saved.stick;
   // an element kept over passes within a step (history_transfer.h, persist)
   // saw the geometry of an earlier pass
@@ -162,7 +163,7 @@ ContactElementState make_element(const Centrelines& c, const ContactPoint& point
                                  const Eigen::Vector3d& normal, double penalty, double g_r,
                                  const RegularizedCoulomb& friction,
                                  const Eigen::Vector3d& elastic_slip, std::span<const double> q,
-                                 GapKind gap_kind)
+                                 GapKind gap_kind, int crossing_patch)
 {
   const ContactPoint& p = point;
   ContactElementState e;
@@ -182,7 +183,7 @@ ContactElementState make_element(const Centrelines& c, const ContactPoint& point
                   c.radius[p.fibre_j]};
   // a crossing's point moves within Newton: on the element and its
   // neighbour across the nearer node (particle.h)
-  const bool moving_point = gap_kind == GapKind::facing;
+  const bool moving_point = gap_kind == GapKind::facing and crossing_patch == 2;
   set_patch(c, p.fibre_i, p.s_i, moving_point, e.particle_i, e.nodes_i);
   set_patch(c, p.fibre_j, p.s_j, moving_point, e.particle_j, e.nodes_j);
   e.normal = normal;

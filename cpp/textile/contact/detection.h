@@ -20,9 +20,9 @@ struct Detection
   std::vector<ProximityZone> zones;
   std::vector<ContactPoint> points;
   std::vector<int> zone_of_point;
-  int held = 0; ///< points added by add_held_contacts (held_contact.h)
-  /// the zones add_held_contacts appended (the last held_source.size()
-  /// zones): the index of each one's held contact in its list
+  /// the zones add_held_contacts appended (held_contact.h; the last
+  /// held_source.size() zones, a point each): the index of each one's held
+  /// contact in its list
   std::vector<int> held_source;
 };
 
@@ -115,7 +115,7 @@ struct SavedElement
 
 ContactElementState restore_element(const Centrelines& c, const SavedElement& saved, double g_r,
                                     const RegularizedCoulomb& friction,
-                                    std::span<const double> q);
+                                    std::span<const double> q, int crossing_patch = 2);
 
 /// The contact element of point p of this pass, with its history.
 ///
@@ -127,10 +127,14 @@ ContactElementState restore_element(const Centrelines& c, const SavedElement& sa
 /// @param gap_kind     how the gap moves within Newton (gap_function.h); a
 ///                     following one measures in the plane orthogonal to the
 ///                     mean of the fibres' tangents at the particles
+/// @param crossing_patch the elements a facing point moves over within
+///                     Newton: 2 (its element and the neighbour across the
+///                     nearer node: 5 nodes a side with quadratic elements)
+///                     or 1 (its element: 3 nodes a side, a sparser tangent)
 ContactElementState make_element(const Centrelines& c, const ContactPoint& p, int zone,
                                  const Eigen::Vector3d& normal, double penalty, double g_r,
                                  const RegularizedCoulomb& friction,
                                  const Eigen::Vector3d& elastic_slip, std::span<const double> q,
-                                 GapKind gap_kind = GapKind::held);
+                                 GapKind gap_kind = GapKind::held, int crossing_patch = 2);
 
 } // namespace textile::contact

@@ -211,7 +211,8 @@ next_contact_set(const ContactSet& old, const Detection& d, const Centrelines& c
     if (par.coefficients)
       friction.mu = par.coefficients->mu(p.fibre_i, p.fibre_j);
     elements.push_back(make_element(c, p, z, normal, from ? from->penalty : par.penalty,
-                                    par.regularization, friction, slip, q, kind));
+                                    par.regularization, friction, slip, q, kind,
+                                    par.crossing_patch));
   }
   return {ContactSet(std::move(elements), static_cast<int>(nz)), std::move(zones)};
 }

@@ -59,6 +59,9 @@ struct ElementParameters
   /// Each pair's mu (within a yarn, between yarns); nullptr: friction.mu
   const FrictionCoefficients* coefficients = nullptr;
   double parallel_angle = 0;  ///< radians, for the normals (contact_normal)
+  /// Elements a crossing's (facing) point moves over within Newton: 2 or 1
+  /// (make_element)
+  int crossing_patch = 2;
   /// The weaving stage's crossing order (weaving_order.h): pairs of fibres
   /// of ordered yarns take the vertical normal it gives; nullptr: none.
   const WeavingOrder* weaving = nullptr;
