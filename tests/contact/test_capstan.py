@@ -118,11 +118,15 @@ def test_capstan_ratio_with_friction(arc_elements):
 @pytest.mark.mpi
 def test_capstan_on_two_ranks_equals_one():
     """The sliding wrap, split between the ranks, gives the one-rank
-    positions (measured 9e-16 R, round-off) and tension ratios (measured
-    2e-11: the support's reaction sums stiff contact forces, added in
-    another order on two ranks)."""
+    positions (measured 9e-16 R and 4e-16 R, round-off) and tension ratios.
+    The ratios agree to the Newton tolerance: each solve stops once its
+    residual is within tolerance, and the sums in another order can stop
+    it an iteration earlier. Measured 2e-11 (2026-12-01, both took the same
+    iterations) and 1.4e-8 (2026-12-03, an AMD EPYC VM: at the first pull
+    step one rank took 5 iterations to a residual of 8.6e-13 N, two ranks
+    3 to 7.6e-11 N); 3.5x the larger."""
     serial, parallel = (tension_then_pull(0.3, 8, comm) for comm in (MPI.COMM_SELF,
                                                                      MPI.COMM_WORLD))
-    assert np.abs(parallel[3] - serial[3]).max() < 1e-10 * np.abs(serial[3]).max()
+    assert np.abs(parallel[3] - serial[3]).max() < 5e-8 * np.abs(serial[3]).max()
     qs, qp = serial[0].nodal_unknowns(), parallel[0].nodal_unknowns()
     assert np.abs(qp[:, 0:3] - qs[:, 0:3]).max() < 1e-13 * R
