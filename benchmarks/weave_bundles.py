@@ -1,8 +1,8 @@
-"""Weaving bundles: 2 x 2 plain weaves of hexagonal bundles, by lifting
+"""Weaving bundles: 2 x 2 plain weaves of bundles, by lifting
 (heddles, the default for bundles) or by ordered contact (the paper's).
 
 Weaves a 2 x 2 plain weave (``--yarns``, ``--pattern``) of ``--fibres``
-hexagonal bundles (R = 0.1 mm, E = 5 GPa; ``--twist`` turns per R),
+bundles (``--packing``, hexagonal by default) (R = 0.1 mm, E = 5 GPa; ``--twist`` turns per R),
 ``--spacing`` yarn widths (diameters, twisted) apart. ``--method lifting``: the
 lifting weave's three stages (:class:`textile.fabric.weaving.Weaving`).
 ``--method ordered``: the ordered weave, per case with the weaving stage's
@@ -45,9 +45,9 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
           relaxation_steps: int = 1, make_up: bool = False, method: str = "ordered",
           free_length: float = 0.5, twist: float = 0.0, newton_per_pass=None,
           lifting_drag: float = 0.0, pattern: str = "plain", num: int = 2,
-          pull: str = "yarn", verbose: bool = False) -> dict:
+          pull: str = "yarn", verbose: bool = False, packing: str = "hexagonal") -> dict:
     # a twisted yarn's fibres lie on helices: a clearance keeps neighbours apart
-    yarn = Yarn(fibres, R, MAT, packing="hexagonal", twist=twist / R,
+    yarn = Yarn(fibres, R, MAT, packing=packing, twist=twist / R,
                 **({"clearance": 0.1} if twist else {}))
     across = yarn.diameter if twist else yarn.width
     fabric = Fabric(yarn, num_warp=num, num_weft=num, spacing=spacing * across,
@@ -69,7 +69,8 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
         return _row(weaving, solver, error, time.perf_counter() - t0,
                     dict(fibres=fibres, spacing=spacing, method=method, free_length=free_length,
                          drag=drag, twist=twist, newton_per_pass=weaving.newton_per_pass,
-                         lifting_drag=lifting_drag, pattern=pattern, yarns=num, pull=pull))
+                         lifting_drag=lifting_drag, pattern=pattern, yarns=num, pull=pull,
+                         packing=packing))
     stages[0].solver.update(easy_iterations=easy)
     if make_up:
         stages[1].effects[weaving.contact]["make_up_penetrations"] = True
@@ -132,6 +133,8 @@ def main():
     p.add_argument("--pattern", default="plain", help="weave pattern (e.g. \"twill 2/2\")")
     p.add_argument("--verbose", action="store_true", help="one line per step (long runs)")
     p.add_argument("--yarns", type=int, default=2, help="yarns each way")
+    p.add_argument("--packing", default="hexagonal",
+                   help="the yarns' packing (Yarn.packing: hexagonal, round, \"layers n\")")
     p.add_argument("--twist", type=float, default=0.0,
                    help="yarn twist, turns per fibre radius (e.g. 0.016667: a turn per 60 R)")
     p.add_argument("--free-length", type=float, default=None,
@@ -147,7 +150,7 @@ def main():
         row = weave(fibres, args.spacing, easy, drag, args.relax, MPI.COMM_SELF,
                     args.relaxation_steps, args.make_up, args.method, free, args.twist,
                     args.newton_per_pass, args.lifting_drag, args.pattern, args.yarns,
-                    args.pull, args.verbose)
+                    args.pull, args.verbose, args.packing)
         rows.append(row)
         print(f"{fibres} fibres, {args.method}, easy_iterations {easy}, drag {drag:g}: "
               f"{row['stage']} s={row['load_factor']:.3f}, "
