@@ -19,6 +19,7 @@ wall time (benchmarks/README.md, "Bundles").
         [--twist 0.016667 --drag 0.1 --newton-per-pass 0]
         [--yarns 4 --pattern "twill 2/2" --drag 0.1 --lifting-drag 0.1]
         [--fibres 19 --free-length 2 --pull fibre]
+        [--fibres 28 --free-length 2 --pull fibre --amplitude 0.45 --drag 0.1]
     .venv/bin/python benchmarks/weave_bundles.py [--fibres 3 7] [--spacing 2]
         [--easy 4 12] [--drag 0 1] [--relax]
 """
@@ -45,7 +46,8 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
           relaxation_steps: int = 1, make_up: bool = False, method: str = "ordered",
           free_length: float = 0.5, twist: float = 0.0, newton_per_pass=None,
           lifting_drag: float = 0.0, pattern: str = "plain", num: int = 2,
-          pull: str = "yarn", verbose: bool = False, packing: str = "hexagonal") -> dict:
+          pull: str = "yarn", verbose: bool = False, packing: str = "hexagonal",
+          amplitude: float | None = None) -> dict:
     # a twisted yarn's fibres lie on helices: a clearance keeps neighbours apart
     yarn = Yarn(fibres, R, MAT, packing=packing, twist=twist / R,
                 **({"clearance": 0.1} if twist else {}))
@@ -56,7 +58,8 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
     weaving = Weaving(fabric, comm=comm, relaxation_steps=relaxation_steps, method=method,
                       **(dict(drag=drag, lifting_drag=lifting_drag,
                               newton_per_pass=newton_per_pass, pull=pull)
-                         if method == "lifting" else {}))
+                         if method == "lifting" else {}),
+                      **({} if amplitude is None else dict(amplitude=amplitude)))
     stages = weaving.stages()
     if method == "lifting":
         t0 = time.perf_counter()
@@ -70,7 +73,7 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
                     dict(fibres=fibres, spacing=spacing, method=method, free_length=free_length,
                          drag=drag, twist=twist, newton_per_pass=weaving.newton_per_pass,
                          lifting_drag=lifting_drag, pattern=pattern, yarns=num, pull=pull,
-                         packing=packing))
+                         packing=packing, amplitude=amplitude))
     stages[0].solver.update(easy_iterations=easy)
     if make_up:
         stages[1].effects[weaving.contact]["make_up_penetrations"] = True
@@ -133,6 +136,9 @@ def main():
     p.add_argument("--pattern", default="plain", help="weave pattern (e.g. \"twill 2/2\")")
     p.add_argument("--verbose", action="store_true", help="one line per step (long runs)")
     p.add_argument("--yarns", type=int, default=2, help="yarns each way")
+    p.add_argument("--amplitude", type=float, default=None,
+                   help="lifting: the heddles' lift, in yarn heights (Weaving's amplitude, "
+                        "default 0.55)")
     p.add_argument("--packing", default="hexagonal",
                    help="the yarns' packing (Yarn.packing: hexagonal, round, \"layers n\")")
     p.add_argument("--twist", type=float, default=0.0,
@@ -150,7 +156,7 @@ def main():
         row = weave(fibres, args.spacing, easy, drag, args.relax, MPI.COMM_SELF,
                     args.relaxation_steps, args.make_up, args.method, free, args.twist,
                     args.newton_per_pass, args.lifting_drag, args.pattern, args.yarns,
-                    args.pull, args.verbose, args.packing)
+                    args.pull, args.verbose, args.packing, args.amplitude)
         rows.append(row)
         print(f"{fibres} fibres, {args.method}, easy_iterations {easy}, drag {drag:g}: "
               f"{row['stage']} s={row['load_factor']:.3f}, "
