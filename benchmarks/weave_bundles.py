@@ -19,7 +19,8 @@ wall time (benchmarks/README.md, "Bundles").
         [--twist 0.016667 --drag 0.1 --newton-per-pass 0]
         [--yarns 4 --pattern "twill 2/2" --drag 0.1 --lifting-drag 0.1]
         [--fibres 19 --free-length 2 --pull fibre]
-        [--fibres 28 --free-length 2 --pull fibre --amplitude 0.45 --drag 0.1]
+        [--fibres 28 --free-length 2 --pull fibre --amplitude 0.45 --drag 0.1
+         --viscous-fading]
     .venv/bin/python benchmarks/weave_bundles.py [--fibres 3 7] [--spacing 2]
         [--easy 4 12] [--drag 0 1] [--relax]
 """
@@ -47,7 +48,7 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
           free_length: float = 0.5, twist: float = 0.0, newton_per_pass=None,
           lifting_drag: float = 0.0, pattern: str = "plain", num: int = 2,
           pull: str = "yarn", verbose: bool = False, packing: str = "hexagonal",
-          amplitude: float | None = None) -> dict:
+          amplitude: float | None = None, viscous_fading: bool = False) -> dict:
     # a twisted yarn's fibres lie on helices: a clearance keeps neighbours apart
     yarn = Yarn(fibres, R, MAT, packing=packing, twist=twist / R,
                 **({"clearance": 0.1} if twist else {}))
@@ -56,7 +57,7 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
                     pattern=pattern, elements_per_crossing=4,
                     free_length=free_length * spacing * across)
     weaving = Weaving(fabric, comm=comm, relaxation_steps=relaxation_steps, method=method,
-                      **(dict(drag=drag, lifting_drag=lifting_drag,
+                      **(dict(drag=drag, lifting_drag=lifting_drag, viscous_fading=viscous_fading,
                               newton_per_pass=newton_per_pass, pull=pull)
                          if method == "lifting" else {}),
                       **({} if amplitude is None else dict(amplitude=amplitude)))
@@ -73,7 +74,7 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
                     dict(fibres=fibres, spacing=spacing, method=method, free_length=free_length,
                          drag=drag, twist=twist, newton_per_pass=weaving.newton_per_pass,
                          lifting_drag=lifting_drag, pattern=pattern, yarns=num, pull=pull,
-                         packing=packing, amplitude=amplitude))
+                         packing=packing, amplitude=amplitude, viscous_fading=viscous_fading))
     stages[0].solver.update(easy_iterations=easy)
     if make_up:
         stages[1].effects[weaving.contact]["make_up_penetrations"] = True
@@ -136,6 +137,9 @@ def main():
     p.add_argument("--pattern", default="plain", help="weave pattern (e.g. \"twill 2/2\")")
     p.add_argument("--verbose", action="store_true", help="one line per step (long runs)")
     p.add_argument("--yarns", type=int, default=2, help="yarns each way")
+    p.add_argument("--viscous-fading", action="store_true",
+                   help="lifting with a drag: the fading stage's drag a viscosity (Weaving's "
+                        "viscous_fading)")
     p.add_argument("--amplitude", type=float, default=None,
                    help="lifting: the heddles' lift, in yarn heights (Weaving's amplitude, "
                         "default 0.55)")
@@ -156,7 +160,8 @@ def main():
         row = weave(fibres, args.spacing, easy, drag, args.relax, MPI.COMM_SELF,
                     args.relaxation_steps, args.make_up, args.method, free, args.twist,
                     args.newton_per_pass, args.lifting_drag, args.pattern, args.yarns,
-                    args.pull, args.verbose, args.packing, args.amplitude)
+                    args.pull, args.verbose, args.packing, args.amplitude,
+                    args.viscous_fading)
         rows.append(row)
         print(f"{fibres} fibres, {args.method}, easy_iterations {easy}, drag {drag:g}: "
               f"{row['stage']} s={row['load_factor']:.3f}, "

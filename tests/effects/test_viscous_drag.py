@@ -108,3 +108,29 @@ def test_bad_coefficients_are_named_errors(value):
         ViscousDrag().configure(coefficient=value)
     with pytest.raises(ValueError, match=r"unknown option\(s\) \['speed'\]"):
         ViscousDrag().configure(speed=1)
+
+
+def _first_step_tip(options: dict, dt: float) -> float:
+    drag = ViscousDrag(0.0)
+    fib, model, force = cantilever(drag)
+    solver = textile.Solver(model, dict(initial_step=dt, max_step=dt, verbose=False))
+    solver.run_stage(textile.Stage("dragged", effects={drag: options}), t_end=dt)
+    return model.nodal_unknowns()[-1, 2]
+
+
+def test_with_a_step_it_is_a_viscosity():
+    """``step`` h: eta = coefficient * h / (s - s_n). A step of h/2 drags as
+    twice the coefficient does without ``step``, a step of h as the
+    coefficient itself (the first step's tip, to the Newton tolerance);
+    and it does drag (the tip lags the drag-free one)."""
+    viscous = _first_step_tip(dict(coefficient=5.0, step=0.5), 0.25)
+    assert viscous == pytest.approx(_first_step_tip(dict(coefficient=10.0), 0.25), rel=1e-9)
+    assert viscous < 0.95 * _first_step_tip(dict(coefficient=5.0), 0.25)
+    nominal = _first_step_tip(dict(coefficient=5.0, step=0.25), 0.25)
+    assert nominal == pytest.approx(_first_step_tip(dict(coefficient=5.0), 0.25), rel=1e-9)
+
+
+@pytest.mark.parametrize("value", [0.0, -0.1, 1.5, float("nan"), True, "0.1"])
+def test_bad_steps_are_named_errors(value):
+    with pytest.raises(ValueError, match=r"ViscousDrag: step is a load-factor increment"):
+        ViscousDrag().configure(step=value)

@@ -329,6 +329,12 @@ def test_wrong_type(tmp_path):
     from textile.scene.scene_file import read_scene
     options = read_scene(str(tmp_path / "drag.toml")).weaving_options()
     assert options["drag"] == 0.1 and options["lifting_drag"] == 0.2
+    assert "viscous_fading" not in options   # the default: Weaving's own
+    data["weaving"]["viscous_fading"] = True
+    write_toml(tmp_path / "viscous.toml", data)
+    assert read_scene(str(tmp_path / "viscous.toml")).weaving_options()["viscous_fading"] is True
+    data["weaving"]["viscous_fading"] = 1
+    refused(tmp_path, data, "scene.toml: weaving.viscous_fading: must be true or false, got 1")
 
 
 def test_missing_field(tmp_path):

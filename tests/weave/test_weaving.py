@@ -147,6 +147,14 @@ def test_bad_weaving_options():
     assert [st.name for st in lifted.stages()] == ["lifting", "settling", "relaxation"]
     assert lifted.stages()[0].effects[lifted.viscous_drag]["coefficient"] == 0.1
     assert lifted.stages()[1].effects[lifted.viscous_drag]["coefficient"] == 0.0
+    with pytest.raises(ValueError, match="viscous_fading .* needs a drag > 0"):
+        Weaving(bundles, viscous_fading=True, comm=MPI.COMM_SELF)
+    with pytest.raises(TypeError, match="viscous_fading is True or False"):
+        Weaving(bundles, drag=0.1, viscous_fading=1, comm=MPI.COMM_SELF)
+    viscous = Weaving(bundles, drag=0.1, viscous_fading=True, comm=MPI.COMM_SELF)
+    fading = viscous.stages()[2]
+    assert fading.name == "fading"
+    assert fading.effects[viscous.viscous_drag]["step"] == 1.0 / Weaving.FADING_STEPS
     with pytest.raises(ValueError, match="pull must be one of"):
         Weaving(bundles, pull="fibres", comm=MPI.COMM_SELF)
     for n in (-1, 2.5):

@@ -25,7 +25,18 @@ converged state is an equilibrium of the structure alone. Each step
 records the largest drag force relative to the fibres' axial stiffness
 E A (``drag_force``): near zero when the state has stopped moving.
 
-Units: those of the model (force, length); ``coefficient`` dimensionless.
+With the stage option ``step`` (a load-factor increment h), the drag is a
+viscosity instead: eta = coefficient * 12 E I / L^3 * h / (s - s_n), s_n
+the load factor of the last accepted step (0 at the stage's start). A step
+of the nominal size h drags as ``coefficient`` says; a step the solver cuts
+after a failed attempt drags harder, a shorter pseudo-time step. Without it
+(the default), a cut step drags as much as the failed one, so where the
+state is still moving when the coefficient falls (a fading stage), cutting
+cannot slow it down (benchmarks/README.md, "28-fibre bundles: a viscous
+fading").
+
+Units: those of the model (force, length); ``coefficient`` and ``step``
+dimensionless.
 """
 from __future__ import annotations
 
@@ -50,22 +61,40 @@ class ViscousDrag(Effect):
 
     def __init__(self, coefficient: float = 1.0):
         self.coefficient = _coefficient(coefficient)
-        self._eta = None
+        self.step = None        # None: a drag; h > 0: a viscosity (module docstring)
+        self._accepted = 0.0    # the load factor of the last accepted step
 
-    def configure(self, coefficient=None, **unknown) -> None:
-        """Stage option ``coefficient``: the drag from this stage on (0:
+    def configure(self, coefficient=None, step=False, **unknown) -> None:
+        """Stage options: ``coefficient``, the drag from this stage on (0:
         off), or a callable of the stage's load factor s (e.g. a drag that
-        fades to 0 at the stage's end)."""
+        fades to 0 at the stage's end); ``step``, None (a drag, the
+        default) or the nominal load-factor step h of a viscous drag (module
+        docstring); not given: as before. Each stage starts its steps at
+        s = 0."""
         if unknown:
             raise ValueError(f"ViscousDrag.configure: unknown option(s) {sorted(unknown)}; "
-                             f"allowed: coefficient")
+                             f"allowed: coefficient, step")
         if coefficient is not None:
             self.coefficient = coefficient if callable(coefficient) \
                 else _coefficient(coefficient)
+        if step is not False:
+            if step is not None and (isinstance(step, bool) or not isinstance(
+                    step, numbers.Real) or not 0 < step <= 1):
+                raise ValueError(f"ViscousDrag: step is a load-factor increment in (0, 1] "
+                                 f"or None, got {step!r}")
+            self.step = None if step is None else float(step)
+        self._accepted = 0.0
 
     def _c(self, s: float) -> float:
-        return _coefficient(self.coefficient(s)) if callable(self.coefficient) \
+        c = _coefficient(self.coefficient(s)) if callable(self.coefficient) \
             else self.coefficient
+        if self.step is None or c == 0:
+            return c
+        # a viscosity: the pseudo-time step is this attempt's increment (from
+        # 0 where a new stage restarted s; the nominal one at the accepted
+        # state itself, where nothing is solved)
+        ds = s - self._accepted if s > self._accepted else s
+        return c * self.step / ds if ds > 1e-12 else c
 
     def setup(self, model) -> None:
         mesh = model.mesh
@@ -86,8 +115,9 @@ class ViscousDrag(Effect):
         return state.u["beam"][self._pos]
 
     def prepare(self, model) -> None:
-        if self._reference is None:
+        if self._reference is None:   # a new run, or one resumed from a saved state
             self._reference = self._x(model.state())
+            self._accepted = model.load_factor if model.load_factor < 1.0 - 1e-14 else 0.0
 
     def residual(self, state: State, b) -> None:
         c = self._c(state.load_factor)
@@ -111,6 +141,7 @@ class ViscousDrag(Effect):
 
     def commit(self, model) -> None:
         self._reference = self._x(model.state())
+        self._accepted = model.load_factor
 
     def statistics(self) -> dict:
         comm = self.model.comm

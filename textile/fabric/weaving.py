@@ -105,6 +105,13 @@ class Weaving:
         0), a path through the lifted bundles' instabilities (the 4 x 4
         twill's lifting stops at 0.86 without it); it ends with the
         lifting. On twisted bundles it stops the settling's first step.
+    viscous_fading:
+        Lifting with a ``drag``: in the fading stage the drag is a
+        viscosity (:class:`~textile.effects.ViscousDrag`'s ``step``): a
+        step cut after a failed attempt drags harder. Default False. The
+        28-fibre 2 x 2 weave (amplitude 0.45) fades through with it and
+        stops without it (benchmarks/README.md, "28-fibre bundles: a
+        viscous fading").
     newton_per_pass:
         Lifting: Newton iterations between contact updates in its stages
         (``SolverOptions.newton_per_pass``; 0: each Newton solve to
@@ -185,7 +192,7 @@ class Weaving:
     def __init__(self, fabric: Fabric, steps: int | None = None,
                  relaxation_steps: int = 1, tension: float = 1e-4, contact=None, element=None,
                  method: str | None = None, settling_steps: int = 16, amplitude: float = 0.55,
-                 drag: float = 0.0, lifting_drag: float = 0.0,
+                 drag: float = 0.0, lifting_drag: float = 0.0, viscous_fading: bool = False,
                  newton_per_pass: int | None = None, pull: str = "yarn",
                  preset: str | None = None, comm=MPI.COMM_WORLD, partition: str = "place"):
         if not isinstance(fabric, Fabric):
@@ -223,6 +230,12 @@ class Weaving:
                                  f"method is {method!r}")
         if pull not in self.PULLS:
             raise ValueError(f"Weaving: pull must be one of {self.PULLS}, got {pull!r}")
+        if not isinstance(viscous_fading, bool):
+            raise TypeError(f"Weaving: viscous_fading is True or False, got {viscous_fading!r}")
+        if viscous_fading and not drag > 0:
+            raise ValueError("Weaving: viscous_fading makes the fading stage's drag a viscosity; "
+                             "it needs a drag > 0")
+        self.viscous_fading = viscous_fading
         self.fabric = fabric
         self.tension = float(tension)
         self.drag = float(drag)
@@ -327,7 +340,9 @@ class Weaving:
             return [lifting, settling, relaxation]
         fading = Stage("fading", effects={**relaxation.effects,
                                           self.viscous_drag: dict(
-                                              coefficient=lambda s: c * (1 - s) ** 2)},
+                                              coefficient=lambda s: c * (1 - s) ** 2,
+                                              step=1.0 / self.FADING_STEPS
+                                              if self.viscous_fading else None)},
                        solver=dict(relaxation.solver, initial_step=1.0 / self.FADING_STEPS,
                                    max_step=1.0 / self.FADING_STEPS))
         relaxation.effects[self.viscous_drag] = dict(coefficient=0.0)

@@ -254,7 +254,8 @@ def _schema():
                     "elements_per_crossing": (integer(1), None), "order": (integer(1), 2)})
     weaving = table({"steps": (integer(1), None), "relaxation_steps": (integer(1), 1),
                      "tension": (number(positive=True), 1e-4), "drag": (number(minimum=0), 0.0),
-                     "lifting_drag": (number(minimum=0), 0.0), "contact": (contact, None)})
+                     "lifting_drag": (number(minimum=0), 0.0),
+                     "viscous_fading": (boolean, False), "contact": (contact, None)})
     test_keys = {"type": (string(TEST_TYPES), None), "name": (string(), None),
                  "steps": (integer(1), None), "release_steps": (integer(0), None),
                  "strain": (number(nonzero=True), None), "ratio": (number(), None),
@@ -766,11 +767,13 @@ class Scene:
 
     def weaving_options(self) -> dict:
         w = self.data["weaving"] or {"steps": None, "relaxation_steps": 1, "tension": 1e-4,
-                                     "drag": 0.0, "lifting_drag": 0.0, "contact": None}
+                                     "drag": 0.0, "lifting_drag": 0.0, "viscous_fading": False,
+                                     "contact": None}
         return dict(steps=w["steps"] or self.preset()["weaving"]["steps"],
                     relaxation_steps=w["relaxation_steps"], tension=w["tension"],
                     contact=self.contact_options(w["contact"]), element=self.element(),
-                    **{k: w[k] for k in ("drag", "lifting_drag") if w[k] > 0})
+                    **{k: w[k] for k in ("drag", "lifting_drag") if w[k] > 0},
+                    **({"viscous_fading": True} if w["viscous_fading"] else {}))
 
     # -- running -----------------------------------------------------------------
     def run(self, output: str | None = None, resume: str | None = None, comm=None) -> dict:
