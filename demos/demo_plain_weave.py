@@ -57,8 +57,12 @@ What to look at
   from (``textile.load_state``).
 
 Run: ``mpirun -n 2 python3 demos/demo_plain_weave.py [--output DIR]
-[--fibres N] [--packing P] [--elements N] [--spacing S]`` (about 30 s on 2
-ranks, 40 s on one; a few seconds with ``--fibres 1 --spacing 6``).
+[--fibres N] [--packing P] [--elements N] [--spacing S] [--amplitude A]``
+(about 30 s on 2 ranks, 40 s on one; a few seconds with ``--fibres 1
+--spacing 6``). Bundles 1.5 widths apart weave with the heddles lifting
+less, ``--spacing 1.5 --amplitude 0.4`` (at the default 0.55 the lifted
+yarns, steeper, fold elements and the lifting stage stops at 0.955;
+benchmarks/README.md, "The 7-fibre weave 1.5 widths apart").
 """
 import argparse
 import os
@@ -78,6 +82,9 @@ parser.add_argument("--elements", type=int, default=4,
                     help="fibre elements between neighbouring crossings")
 parser.add_argument("--spacing", type=float, default=2.0,
                     help="yarn spacing, in yarn widths")
+parser.add_argument("--amplitude", type=float, default=None,
+                    help="bundles: the heddles' lift, in yarn heights (Weaving's amplitude, "
+                         "default 0.55; 0.4 for 1.5 widths apart)")
 args = parser.parse_args()
 
 # Fibres: polyester monofilaments, 0.2 mm diameter (E = 5 GPa, nu = 0.35).
@@ -95,7 +102,8 @@ if comm.rank == 0:
 
 # The scene: fibres, yarn-end rigid bodies, contact (and heddles for
 # bundles); its stages.
-weaving = Weaving(fabric, tension=1e-4)
+lifting = {} if args.amplitude is None else dict(amplitude=args.amplitude)
+weaving = Weaving(fabric, tension=1e-4, **lifting)
 output = weaving.output(args.output)
 weaving.run(output)
 

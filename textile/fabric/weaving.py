@@ -90,7 +90,10 @@ class Weaving:
         of the mean height of a warp and a weft yarn (0.55: they clear each
         other at the crossing's middle by 0.1 of that height; fibres off
         the middle, where the yarns slope, may still overlap a little, and
-        the settling stage makes that up progressively).
+        the settling stage makes that up progressively). Yarns closer
+        than 2 widths slope more for the same lift: 7-fibre bundles 1.5
+        widths apart weave with 0.4 and stop in the lifting stage with
+        0.55 (benchmarks/README.md, "The 7-fibre weave 1.5 widths apart").
     drag:
         Lifting: the coefficient of a
         :class:`~textile.effects.ViscousDrag` (pseudo-time) through the
