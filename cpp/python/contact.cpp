@@ -309,9 +309,9 @@ void declare_contact(py::module_& m)
       .def("covers", &CouplingPattern::covers, py::arg("set"), py::arg("margin"))
       .def("add", &CouplingPattern::add, py::arg("set"), py::arg("margin"))
       .def("insert",
-           [](const CouplingPattern& self, Mat P, const carray<std::int32_t>& dofs)
-           { self.insert(P, cspan(dofs)); },
-           py::arg("preallocator"), py::arg("dofs"))
+           [](const CouplingPattern& self, assembly::SparsityPattern& pattern,
+              const carray<std::int32_t>& dofs) { self.insert(pattern, cspan(dofs)); },
+           py::arg("pattern"), py::arg("dofs"))
       .def_property_readonly("size", &CouplingPattern::size);
 
   py::class_<ContactSet>(m, "ContactSet")

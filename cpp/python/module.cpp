@@ -4,7 +4,7 @@
 #include "../textile/assembly/beam_assembler.h"
 #include "../textile/assembly/petsc_insert.h"
 #include "../textile/assembly/petsc_error.h"
-#include "../textile/assembly/preallocation.h"
+#include "../textile/assembly/sparsity_pattern.h"
 #include "../textile/beam/beam_element.h"
 #include "../textile/geometry_error.h"
 #include "../textile/loads/end_moment.h"
@@ -215,12 +215,20 @@ PYBIND11_MODULE(_cpp, m)
       },
       py::arg("A"), "PETSc's counter of A's nonzero pattern: it changes when the pattern does");
 
-  m.def("create_preallocator", &assembly::create_preallocator, py::arg("base"),
-        py::return_value_policy::take_ownership,
-        "MATPREALLOCATOR holding the pattern of base (add entries, then preallocated_matrix)");
-  m.def("preallocated_matrix", &assembly::preallocated_matrix, py::arg("preallocator"),
-        py::arg("base"), py::return_value_policy::take_ownership,
-        "New AIJ matrix with the collected pattern and base's layout and maps");
+  py::class_<assembly::SparsityPattern>(m, "SparsityPattern")
+      .def(py::init<Mat>(), py::arg("base"),
+           "The pattern of base (assembled AIJ), to which rebuilt matrices add entries")
+      .def(
+          "add",
+          [](assembly::SparsityPattern& self, const carray<std::int32_t>& rows,
+             const carray<std::int32_t>& cols) { self.add(cspan(rows), cspan(cols)); },
+          py::arg("rows"), py::arg("cols"),
+          "Declare the block [rows, cols] (global indices, negative skipped, any rank's rows)")
+      .def("create_matrix", &assembly::SparsityPattern::create_matrix,
+           py::return_value_policy::take_ownership,
+           "New assembled zero matrix: base's pattern, layout and maps plus the declared "
+           "entries, which are then forgotten (collective)")
+      .def_property_readonly("base_size", &assembly::SparsityPattern::base_size);
 
   m.def("absolute_product", &assembly::absolute_product, py::arg("A"), py::arg("x"),
         py::arg("y"), "y = |A| |x| (entrywise absolute values; assembled AIJ matrix)");

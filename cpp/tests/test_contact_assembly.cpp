@@ -9,6 +9,7 @@
 #include <textile/contact/penalty_adaptation.h>
 #include <textile/contact/regularized_penalty.h>
 
+#include "petsc_environment.h"
 #include "test_contact_scenes.h"
 
 #include <gtest/gtest.h>
@@ -23,29 +24,6 @@ using namespace textile::contact;
 
 namespace
 {
-/// PETSc (serial), started by the first test that needs it (starting MPI
-/// costs the other tests of the program nothing then) and ended with it.
-class PetscEnvironment : public ::testing::Environment
-{
-public:
-  static void require()
-  {
-    PetscBool up;
-    PetscInitialized(&up);
-    if (!up)
-      PetscInitializeNoArguments();
-  }
-  void TearDown() override
-  {
-    PetscBool up;
-    PetscInitialized(&up);
-    if (up)
-      PetscFinalize();
-  }
-};
-[[maybe_unused]] ::testing::Environment* const petsc_environment
-    = ::testing::AddGlobalTestEnvironment(new PetscEnvironment);
-
 /// Dense copy of an assembled matrix.
 std::vector<double> dense(Mat A, int n)
 {
@@ -138,20 +116,17 @@ TEST_P(NodeBlockInsertion, EqualsElementByElementInsertion)
   Mat A;
   if (how == "in place")
   {
-    // preallocated with the layout's own pattern, as CouplingPattern does
-    Mat P;
-    MatCreate(PETSC_COMM_SELF, &P);
-    MatSetType(P, MATPREALLOCATOR);
-    MatSetSizes(P, n, n, n, n);
-    MatSetUp(P);
-    blocks.insert_pattern(P);
-    MatAssemblyBegin(P, MAT_FINAL_ASSEMBLY);
-    MatAssemblyEnd(P, MAT_FINAL_ASSEMBLY);
-    MatCreate(PETSC_COMM_SELF, &A);
-    MatSetType(A, MATSEQAIJ);
-    MatSetSizes(A, n, n, n, n);
-    MatPreallocatorPreallocate(P, PETSC_TRUE, A);
-    MatDestroy(&P);
+    // preallocated with the layout's own pattern, as CouplingPattern does,
+    // over an empty base
+    Mat base = seqaij(n, 0);
+    MatAssemblyBegin(base, MAT_FINAL_ASSEMBLY);
+    MatAssemblyEnd(base, MAT_FINAL_ASSEMBLY);
+    {
+      textile::assembly::SparsityPattern pattern(base);
+      blocks.insert_pattern(pattern);
+      A = pattern.create_matrix();
+    }
+    MatDestroy(&base);
     MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE); // in place only
   }
   else if (how == "outside the pattern")

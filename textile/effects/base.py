@@ -124,11 +124,12 @@ class Effect:
     def add_sparsity(self, sparsity) -> None:
         """Insert the blocks this effect will fill."""
 
-    def add_dynamic_pattern(self, model, preallocator) -> None:
-        """For effects with dynamic_sparsity: declare, by global index, the
-        matrix entries the effect can fill now (called when the model
+    def add_dynamic_pattern(self, model, pattern) -> None:
+        """For effects with dynamic_sparsity: declare the matrix entries the
+        effect can fill now, by global index (``pattern.add(rows, cols)``;
+        ``pattern`` is a ``_cpp.SparsityPattern``). Called when the model
         rebuilds its matrix, after an effect asked for it with
-        ``model.request_matrix_rebuild()`` in its prepare or update)."""
+        ``model.request_matrix_rebuild()`` in its prepare or update."""
 
     def constraints(self, load_factor: float) -> dict[str, tuple[np.ndarray, np.ndarray]]:
         """Field name -> (local unrolled dofs, prescribed values) the effect

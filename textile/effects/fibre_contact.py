@@ -709,8 +709,8 @@ class FibreContact(Effect):
         new.set_zone_penalties(k)
         self.penalty_conversions += int(convert.sum())
 
-    def add_dynamic_pattern(self, model, preallocator) -> None:
-        self.coverage.insert(preallocator, model.beam_global_dofs(model.state()))
+    def add_dynamic_pattern(self, model, pattern) -> None:
+        self.coverage.insert(pattern, model.beam_global_dofs())
 
     def _zone_state(self) -> tuple[np.ndarray, np.ndarray]:
         """(penalty, largest penetration) of every zone, over all ranks."""

@@ -90,6 +90,7 @@ class System:
         # effects with couplings that change (contact) extend this base
         # pattern when they change: see rebuild_matrix
         self._A_base = self.A
+        self._base_pattern = None     # its rows, read at the first rebuild
         self.matrix_stale = False
         self.x = self.layout.create_vector()
         self.b = self.layout.create_vector()
@@ -169,6 +170,7 @@ class System:
         self._A_base.destroy()
         self.A = sp.create_matrix()
         self._A_base = self.A
+        self._base_pattern = None
         self.matrix_stale = any(e.dynamic_sparsity for e in self.effects)
 
     def _setup_constraints(self) -> bool:
@@ -275,22 +277,21 @@ class System:
             idx, _ = self.constraint_set.owned(self.load_factor)
             _cpp.add_diagonal(self._A_base, idx.astype(np.int32), 1.0)
             self._A_base.assemble()
-        P = _cpp.create_preallocator(self._A_base)
-        st = self.state()
+        if self._base_pattern is None:
+            # read once: every rebuild starts from the base's rows
+            self._base_pattern = _cpp.SparsityPattern(self._A_base)
         for e in self.effects:
             if e.dynamic_sparsity:
-                e.add_dynamic_pattern(self, P)
+                e.add_dynamic_pattern(self, self._base_pattern)
         # block size 1, not the base's: with block size 9 the capstan's slip
         # reversal (tests/contact/test_capstan.py) classifies stick and slip
         # at its first iterate by round-off, and two ranks then cycle where
         # one converges; kept until that tie is decided deterministically
-        A = _cpp.preallocated_matrix(P, self._A_base)
-        P.destroy()
+        A = self._base_pattern.create_matrix()
         if self.A is not self._A_base:
             self.A.destroy()
         self.A = A
         self.matrix_stale = False
-        del st
         return A
 
     def constrained_positions(self) -> np.ndarray:

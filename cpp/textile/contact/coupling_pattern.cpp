@@ -32,7 +32,7 @@ void CouplingPattern::add(const ContactSet& set, double margin)
   _couplings = std::move(merged);
 }
 
-void CouplingPattern::insert(Mat preallocator, std::span<const std::int32_t> dofs) const
+void CouplingPattern::insert(assembly::SparsityPattern& pattern, std::span<const std::int32_t> dofs) const
 {
   std::vector<std::size_t> offsets = {0};
   std::vector<std::int64_t> nodes;
@@ -46,6 +46,6 @@ void CouplingPattern::insert(Mat preallocator, std::span<const std::int32_t> dof
   }
   NodeBlockMatrix blocks;
   blocks.build(offsets, nodes, dofs);
-  blocks.insert_pattern(preallocator);
+  blocks.insert_pattern(pattern);
 }
 } // namespace textile::contact

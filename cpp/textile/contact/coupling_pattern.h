@@ -3,7 +3,7 @@
 //
 // A contact element near closing couples every unknown of its element on
 // fibre i with every unknown of its element on fibre j. The system matrix
-// is preallocated (MATPREALLOCATOR, assembly/preallocation.h) for the
+// is preallocated (assembly/sparsity_pattern.h) for the
 // couplings recorded here; when a detection pass brings an element near
 // contact (its gap below a margin) on a pair of fibre elements not
 // recorded, the matrix must be rebuilt. Couplings are kept once recorded:
@@ -12,6 +12,7 @@
 #pragma once
 
 #include "contact_set.h"
+#include "../assembly/sparsity_pattern.h"
 
 #include <petscmat.h>
 
@@ -33,8 +34,8 @@ public:
   void add(const ContactSet& set, double margin);
 
   /// Declare the recorded couplings (9 x 9 blocks of their nodes, global
-  /// indices dofs[9 node + k], -1 skipped) in a matrix being preallocated.
-  void insert(Mat preallocator, std::span<const std::int32_t> dofs) const;
+  /// indices dofs[9 node + k], -1 skipped) in a pattern being built.
+  void insert(assembly::SparsityPattern& pattern, std::span<const std::int32_t> dofs) const;
 
   /// Number of recorded pairs of fibre elements.
   std::size_t size() const { return _couplings.size(); }

@@ -139,36 +139,29 @@ void NodeBlockMatrix::add(std::size_t e, std::span<const double> K)
     }
 }
 
-void NodeBlockMatrix::insert_row(Mat A, std::size_t r, bool touched_only) const
+void NodeBlockMatrix::insert_row(Mat A, std::size_t r) const
 {
   cols_.clear();
   for (std::size_t p = row_start_[r]; p < row_start_[r + 1]; ++p)
-    if (!touched_only or block_touched_[p])
+    if (block_touched_[p])
       for (int k = 0; k < dofs_per_node; ++k)
         cols_.push_back(dofs_[dofs_per_node * col_node_[p] + k]);
   const std::size_t ncols = cols_.size();
-  // all blocks of the row (a pattern) are inserted as zeros
-  row_values_.assign(dofs_per_node * ncols, 0.0);
-  if (touched_only)
+  row_values_.resize(dofs_per_node * ncols);
+  std::size_t c = 0;
+  for (std::size_t p = row_start_[r]; p < row_start_[r + 1]; ++p)
   {
-    std::size_t c = 0;
-    for (std::size_t p = row_start_[r]; p < row_start_[r + 1]; ++p)
-    {
-      if (!block_touched_[p])
-        continue;
-      const double* block = values_.data() + static_cast<std::size_t>(block_size) * p;
-      for (int i = 0; i < dofs_per_node; ++i)
-        std::copy_n(block + dofs_per_node * i, dofs_per_node,
-                    row_values_.data() + i * ncols + c);
-      c += dofs_per_node;
-    }
+    if (!block_touched_[p])
+      continue;
+    const double* block = values_.data() + static_cast<std::size_t>(block_size) * p;
+    for (int i = 0; i < dofs_per_node; ++i)
+      std::copy_n(block + dofs_per_node * i, dofs_per_node, row_values_.data() + i * ncols + c);
+    c += dofs_per_node;
   }
   const std::int32_t* rows = dofs_.data() + dofs_per_node * row_node_[r];
   // negative (constrained) rows and columns are skipped by PETSc
-  // a pattern goes into a preallocator with INSERT_VALUES, as its base
-  // pattern (PETSc refuses to mix the modes before an assembly)
   assembly::check(MatSetValues(A, dofs_per_node, rows, static_cast<PetscInt>(ncols), cols_.data(),
-                               row_values_.data(), touched_only ? ADD_VALUES : INSERT_VALUES),
+                               row_values_.data(), ADD_VALUES),
                   "MatSetValues");
 }
 
@@ -343,7 +336,7 @@ void NodeBlockMatrix::insert(Mat A)
     if (!slots_.row_owned.empty() and !slots_.row_owned[r])
       for (std::size_t b = row_start_[r]; b < row_start_[r + 1]; ++b)
         off_rank_counts_.stashed += block_touched_[b];
-    insert_row(A, r, true);
+    insert_row(A, r);
     for (std::size_t b = row_start_[r]; b < row_start_[r + 1]; ++b)
       block_touched_[b] = 0;
     row_touched_[r] = 0;
@@ -353,9 +346,15 @@ void NodeBlockMatrix::insert(Mat A)
   touched_.clear();
 }
 
-void NodeBlockMatrix::insert_pattern(Mat P) const
+void NodeBlockMatrix::insert_pattern(assembly::SparsityPattern& pattern) const
 {
   for (std::size_t r = 0; r < row_node_.size(); ++r)
-    insert_row(P, r, false);
+  {
+    cols_.clear();
+    for (std::size_t p = row_start_[r]; p < row_start_[r + 1]; ++p)
+      for (int k = 0; k < dofs_per_node; ++k)
+        cols_.push_back(dofs_[dofs_per_node * col_node_[p] + k]);
+    pattern.add({dofs_.data() + dofs_per_node * row_node_[r], dofs_per_node}, cols_);
+  }
 }
 } // namespace textile::contact

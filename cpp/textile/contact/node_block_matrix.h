@@ -32,6 +32,7 @@
 #pragma once
 
 #include "../assembly/off_rank_blocks.h"
+#include "../assembly/sparsity_pattern.h"
 
 #include <petscmat.h>
 
@@ -77,9 +78,8 @@ public:
   };
   const OffRankCounts& off_rank_counts() const { return off_rank_counts_; }
 
-  /// Declare every block of the layout (zeros) in a matrix being
-  /// preallocated (MATPREALLOCATOR), one call per block row.
-  void insert_pattern(Mat P) const;
+  /// Declare every block of the layout in a pattern being built.
+  void insert_pattern(assembly::SparsityPattern& pattern) const;
 
 private:
   std::vector<std::int32_t> dofs_;          // the global indices it was built for
@@ -121,9 +121,8 @@ private:
   /// Locate the slots of every block of the layout in A (AIJ types).
   void locate(Mat A);
 
-  /// One MatSetValues for block row r: its touched blocks' values, or all
-  /// its blocks as zeros (touched_only false).
-  void insert_row(Mat A, std::size_t r, bool touched_only) const;
+  /// One MatSetValues for block row r: its touched blocks' values.
+  void insert_row(Mat A, std::size_t r) const;
 };
 
 } // namespace textile::contact
