@@ -2,15 +2,17 @@
 (heddles, the default for bundles) or by ordered contact (the paper's).
 
 Weaves a 2 x 2 plain weave (``--yarns``, ``--pattern``) of ``--fibres``
-bundles (``--packing``, hexagonal by default) (R = 0.1 mm, E = 5 GPa; ``--twist`` turns per R),
-``--spacing`` yarn widths (diameters, twisted) apart. ``--method lifting``: the
+bundles (``--packing``, hexagonal by default; R = 0.1 mm, E = 5 GPa;
+``--twist`` turns per R), ``--spacing`` yarn widths (diameters, twisted)
+apart. ``--method lifting``: the
 lifting weave's three stages (:class:`textile.fabric.weaving.Weaving`).
 ``--method ordered``: the ordered weave, per case with the weaving stage's
 ``easy_iterations`` and an optional :class:`~textile.effects.ViscousDrag`
 fading as (1 - s)^2 over the weaving stage, the relaxation optional (where
-the ordered weave stops on bundles). Prints and writes to
-``output/weave_bundles.json`` how far each case got (load factor of the
-stage that stopped, the error), its Newton iterations per step (failed
+the ordered weave stops on bundles). Prints, and adds to
+``output/weave_bundles.json`` (with the date and arguments), how far
+each case got (load factor of the stage that stopped, the error), its
+Newton iterations per step (failed
 attempts counted in the solver's counters), the crossings in pattern order,
 the largest penetration, the crimp, the sections' height over width and the
 wall time (benchmarks/README.md, "Bundles").
@@ -27,9 +29,11 @@ wall time (benchmarks/README.md, "Bundles").
 from __future__ import annotations
 
 import argparse
+import fcntl
 import itertools
 import json
 import os
+import sys
 import time
 
 from mpi4py import MPI
@@ -172,9 +176,30 @@ def main():
               f"crimp {row['crimp']:.4f}, height/width {row['height_over_width']:.2f}, "
               f"{row['wall_seconds']:.1f} s{'; ' + row['error'][:120] if row['error'] else ''}",
               flush=True)
+    record(rows)
+
+
+def record(rows: list[dict]) -> None:
+    """Add this run's rows, with its date and arguments, to
+    output/weave_bundles.json: earlier runs are kept (runs of hours are
+    often started side by side; a lock keeps two finishing together from
+    losing one)."""
     os.makedirs(OUT, exist_ok=True)
-    with open(os.path.join(OUT, "weave_bundles.json"), "w") as f:
-        json.dump(dict(date=time.strftime("%Y-%m-%d"), runs=rows), f, indent=1)
+    path = os.path.join(OUT, "weave_bundles.json")
+    stamp = dict(date=time.strftime("%Y-%m-%d %H:%M"), arguments=sys.argv[1:])
+    with open(path + ".lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        runs = []
+        if os.path.exists(path):
+            try:
+                with open(path) as f:
+                    runs = json.load(f).get("runs", [])
+            except (OSError, ValueError, AttributeError):
+                runs = []     # unreadable (e.g. the old one-run format): start again
+        runs += [dict(stamp, **row) for row in rows]
+        with open(path + ".tmp", "w") as f:
+            json.dump(dict(runs=runs), f, indent=1)
+        os.replace(path + ".tmp", path)
 
 
 if __name__ == "__main__":

@@ -224,10 +224,10 @@ PYBIND11_MODULE(_cpp, m)
              const carray<std::int32_t>& cols) { self.add(cspan(rows), cspan(cols)); },
           py::arg("rows"), py::arg("cols"),
           "Declare the block [rows, cols] (global indices, negative skipped, any rank's rows)")
-      .def("create_matrix", &assembly::SparsityPattern::create_matrix,
+      .def("create_matrix", &assembly::SparsityPattern::create_matrix, py::arg("base"),
            py::return_value_policy::take_ownership,
-           "New assembled zero matrix: base's pattern, layout and maps plus the declared "
-           "entries, which are then forgotten (collective)")
+           "New assembled zero matrix: base's pattern as read, base's layout and maps, plus "
+           "the declared entries, which are then forgotten (collective)")
       .def_property_readonly("base_size", &assembly::SparsityPattern::base_size);
 
   m.def("absolute_product", &assembly::absolute_product, py::arg("A"), py::arg("x"),

@@ -124,7 +124,7 @@ TEST_P(NodeBlockInsertion, EqualsElementByElementInsertion)
     {
       textile::assembly::SparsityPattern pattern(base);
       blocks.insert_pattern(pattern);
-      A = pattern.create_matrix();
+      A = pattern.create_matrix(base);
     }
     MatDestroy(&base);
     MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE); // in place only

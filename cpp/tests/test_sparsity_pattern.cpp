@@ -70,7 +70,7 @@ TEST(SparsityPattern, BaseRowsPlusDeclaredBlocks)
         if (r >= 0 and c >= 0)
           expected[r].insert(c);
 
-  Mat A = pattern.create_matrix();
+  Mat A = pattern.create_matrix(base);
   bool any_nonzero;
   EXPECT_EQ(rows_of(A, any_nonzero), expected);
   EXPECT_FALSE(any_nonzero);
@@ -79,7 +79,7 @@ TEST(SparsityPattern, BaseRowsPlusDeclaredBlocks)
   MatDestroy(&A);
 
   // the declared blocks are forgotten: the next matrix is the base's pattern
-  Mat B = pattern.create_matrix();
+  Mat B = pattern.create_matrix(base);
   std::vector<std::set<PetscInt>> base_only(n);
   for (PetscInt i = 0; i < n; ++i)
     for (PetscInt j = std::max<PetscInt>(0, i - 1); j <= std::min<PetscInt>(n - 1, i + 1); ++j)

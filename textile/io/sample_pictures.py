@@ -23,12 +23,15 @@ stage's end, and what can be done after a run for any written step.
 from __future__ import annotations
 
 import os
+import warnings
 from collections.abc import Mapping
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
 
-from textile.io.render import render_cross_section_png, render_fibres_png
+from textile.io.render import (RenderingUnavailable, RenderingWarning, render_cross_section_png,
+                               render_fibres_png, sketch_fibres_png)
 
 __all__ = ["CutPlane", "cut_planes", "draw_sample_pictures", "draw_vtu_pictures",
            "fabric_labels", "read_fibres_vtu", "yarn_axes", "yarn_labels"]
@@ -170,12 +173,35 @@ def draw_sample_pictures(directory: str, lines, radii, yarn=None, axes: dict | N
     drawn, errors = {}, []
     sample = os.path.join(directory, f"sample{suffix}.png")
     top = os.path.join(directory, f"sample_top{suffix}.png")
-    try:
-        backend = render_fibres_png(sample, lines, radii, key, labels=labels, top_path=top,
-                                    size=size, fallback=True)
-        drawn.update({os.path.basename(sample): backend, os.path.basename(top): backend})
-    except Exception as e:     # a picture must never cost the results
-        errors.append(f"{os.path.basename(sample)}: {type(e).__name__}: {e}")
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        # VTK draws the 3D views in its own process while matplotlib draws
+        # the cuts here (the thread only waits for that process)
+        views = pool.submit(render_fibres_png, sample, lines, radii, key, labels=labels,
+                            top_path=top, size=size)
+        cuts = _draw_cuts(directory, lines, radii, yarn, key, labels, axes, suffix, unit,
+                          errors)
+        try:
+            try:
+                backend = views.result()
+            except RenderingUnavailable as e:
+                # matplotlib stands in, here (not beside the cuts' figures)
+                warnings.warn(f"{e}; drawing {os.path.basename(sample)} with matplotlib "
+                              f"instead", RenderingWarning, stacklevel=2)
+                sketch_fibres_png(sample, lines, radii, key, labels=labels, top_path=top,
+                                  size=size)
+                backend = "matplotlib"
+            drawn.update({os.path.basename(sample): backend, os.path.basename(top): backend})
+        except Exception as e:     # a picture must never cost the results
+            errors.insert(0, f"{os.path.basename(sample)}: {type(e).__name__}: {e}")
+    drawn.update(cuts)
+    return drawn, errors
+
+
+def _draw_cuts(directory, lines, radii, yarn, key, labels, axes, suffix, unit,
+               errors: list) -> dict:
+    """The cuts of :func:`draw_sample_pictures` ({file: "matplotlib"});
+    failures are appended to ``errors``."""
+    drawn = {}
     try:
         planes = cut_planes(lines, radii, yarn, axes)
     except Exception as e:
@@ -190,7 +216,7 @@ def draw_sample_pictures(directory: str, lines, radii, yarn=None, axes: dict | N
             drawn[name] = "matplotlib"
         except Exception as e:
             errors.append(f"{name}: {type(e).__name__}: {e}")
-    return drawn, errors
+    return drawn
 
 
 def read_fibres_vtu(path: str) -> tuple[list[np.ndarray], np.ndarray, np.ndarray | None]:

@@ -287,7 +287,7 @@ class System:
         # reversal (tests/contact/test_capstan.py) classifies stick and slip
         # at its first iterate by round-off, and two ranks then cycle where
         # one converges; kept until that tie is decided deterministically
-        A = self._base_pattern.create_matrix()
+        A = self._base_pattern.create_matrix(self._A_base)
         if self.A is not self._A_base:
             self.A.destroy()
         self.A = A

@@ -2,17 +2,17 @@
 #include "petsc_error.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace textile::assembly
 {
-SparsityPattern::SparsityPattern(Mat base) : base_(base)
+SparsityPattern::SparsityPattern(Mat base)
 {
-  check(PetscObjectReference(reinterpret_cast<PetscObject>(base_)), "PetscObjectReference");
-  check(MatGetOwnershipRange(base_, &row_begin_, &row_end_), "MatGetOwnershipRange");
+  check(MatGetOwnershipRange(base, &row_begin_, &row_end_), "MatGetOwnershipRange");
   const PetscInt* ranges;
-  check(MatGetOwnershipRanges(base_, &ranges), "MatGetOwnershipRanges");
+  check(MatGetOwnershipRanges(base, &ranges), "MatGetOwnershipRanges");
   MPI_Comm comm;
-  check(PetscObjectGetComm(reinterpret_cast<PetscObject>(base_), &comm), "PetscObjectGetComm");
+  check(PetscObjectGetComm(reinterpret_cast<PetscObject>(base), &comm), "PetscObjectGetComm");
   int size;
   MPI_Comm_size(comm, &size);
   ranges_.assign(ranges, ranges + size + 1);
@@ -24,14 +24,12 @@ SparsityPattern::SparsityPattern(Mat base) : base_(base)
   {
     PetscInt ncols;
     const PetscInt* cols;
-    check(MatGetRow(base_, row, &ncols, &cols, nullptr), "MatGetRow");
+    check(MatGetRow(base, row, &ncols, &cols, nullptr), "MatGetRow");
     base_cols_.insert(base_cols_.end(), cols, cols + ncols);
-    check(MatRestoreRow(base_, row, &ncols, &cols, nullptr), "MatRestoreRow");
+    check(MatRestoreRow(base, row, &ncols, &cols, nullptr), "MatRestoreRow");
     base_start_.push_back(static_cast<PetscInt>(base_cols_.size()));
   }
 }
-
-SparsityPattern::~SparsityPattern() { MatDestroy(&base_); }
 
 void SparsityPattern::add(std::span<const std::int32_t> rows, std::span<const std::int32_t> cols)
 {
@@ -60,10 +58,15 @@ void SparsityPattern::add(std::span<const std::int32_t> rows, std::span<const st
   }
 }
 
-Mat SparsityPattern::create_matrix()
+Mat SparsityPattern::create_matrix(Mat base)
 {
   MPI_Comm comm;
-  check(PetscObjectGetComm(reinterpret_cast<PetscObject>(base_), &comm), "PetscObjectGetComm");
+  check(PetscObjectGetComm(reinterpret_cast<PetscObject>(base), &comm), "PetscObjectGetComm");
+  PetscInt r0, r1;
+  check(MatGetOwnershipRange(base, &r0, &r1), "MatGetOwnershipRange");
+  if (r0 != row_begin_ or r1 != row_end_)
+    throw std::invalid_argument("SparsityPattern::create_matrix: base has other rows than the "
+                                "matrix the pattern was read from");
   const int size = static_cast<int>(sent_.size());
   // declared rows of other ranks go to their owners
   if (size > 1)
@@ -108,11 +111,11 @@ Mat SparsityPattern::create_matrix()
   const std::vector<PetscScalar> zeros(cols.size(), 0.0);
 
   MatType type;
-  check(MatGetType(base_, &type), "MatGetType");
+  check(MatGetType(base, &type), "MatGetType");
   PetscInt n, M, N;
   PetscInt m_local;
-  check(MatGetLocalSize(base_, &m_local, &n), "MatGetLocalSize");
-  check(MatGetSize(base_, &M, &N), "MatGetSize");
+  check(MatGetLocalSize(base, &m_local, &n), "MatGetLocalSize");
+  check(MatGetSize(base, &M, &N), "MatGetSize");
   Mat A;
   check(MatCreate(comm, &A), "MatCreate");
   check(MatSetType(A, type), "MatSetType");
@@ -123,7 +126,7 @@ Mat SparsityPattern::create_matrix()
   check(MatMPIAIJSetPreallocationCSR(A, start.data(), cols.data(), zeros.data()),
         "MatMPIAIJSetPreallocationCSR");
   ISLocalToGlobalMapping rmap, cmap;
-  check(MatGetLocalToGlobalMapping(base_, &rmap, &cmap), "MatGetLocalToGlobalMapping");
+  check(MatGetLocalToGlobalMapping(base, &rmap, &cmap), "MatGetLocalToGlobalMapping");
   if (rmap and cmap)
     check(MatSetLocalToGlobalMapping(A, rmap, cmap), "MatSetLocalToGlobalMapping");
   // a coupling missed by the pattern costs a reallocation, not a failed run

@@ -34,29 +34,26 @@ class SparsityPattern
 {
 public:
   /// The pattern of `base` (an assembled AIJ matrix addressed by global
-  /// indices): its owned rows, layout and local-to-global maps. `base` is
-  /// referenced, not copied, and must keep its pattern while this lives.
+  /// indices): its owned rows, read once (no reference to it is kept).
   explicit SparsityPattern(Mat base);
-  ~SparsityPattern();
-  SparsityPattern(const SparsityPattern&) = delete;
-  SparsityPattern& operator=(const SparsityPattern&) = delete;
 
   /// Declare the dense block A[rows, cols] (global indices; negative ones
   /// are skipped; rows of any rank).
   void add(std::span<const std::int32_t> rows, std::span<const std::int32_t> cols);
 
-  /// A new matrix of base's type, layout and maps holding base's pattern
-  /// plus every declared entry, all zero, assembled; the caller owns it.
+  /// A new matrix of the type, layout and local-to-global maps of `base`
+  /// (the matrix the pattern was read from, or one of its layout) holding
+  /// base's pattern as read plus every declared entry, all zero,
+  /// assembled; the caller owns it.
   /// An entry outside the pattern later costs a reallocation, not an
   /// error. Forgets the declared entries (the base pattern stays), so one
   /// object serves every rebuild. Collective.
-  Mat create_matrix();
+  Mat create_matrix(Mat base);
 
   /// Entries of base's owned rows.
   std::size_t base_size() const { return base_cols_.size(); }
 
 private:
-  Mat base_;
   PetscInt row_begin_ = 0, row_end_ = 0;
   std::vector<PetscInt> ranges_;             // first row of each rank, and the end
   std::vector<PetscInt> base_start_, base_cols_; // base's owned rows (CSR, sorted)
