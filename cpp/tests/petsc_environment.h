@@ -1,7 +1,8 @@
-// PETSc (serial) for the unit tests that need it.
+// PETSc (serial) for the unit tests that need it, and reading matrices back.
 #pragma once
 
 #include <gtest/gtest.h>
+#include <petscmat.h>
 #include <petscsys.h>
 
 /// Started by the first test that needs it (starting MPI costs the other
@@ -28,3 +29,22 @@ public:
 // one registration for the whole test program (an inline variable)
 [[maybe_unused]] inline ::testing::Environment* const petsc_environment
     = ::testing::AddGlobalTestEnvironment(new PetscEnvironment);
+
+/// f(row, column, value) for every stored entry of an assembled sequential
+/// matrix, row by row.
+template <typename F>
+void for_each_entry(Mat A, F f)
+{
+  PetscInt m, n;
+  MatGetSize(A, &m, &n);
+  for (PetscInt r = 0; r < m; ++r)
+  {
+    PetscInt ncols;
+    const PetscInt* cols;
+    const PetscScalar* vals;
+    MatGetRow(A, r, &ncols, &cols, &vals);
+    for (PetscInt k = 0; k < ncols; ++k)
+      f(r, cols[k], vals[k]);
+    MatRestoreRow(A, r, &ncols, &cols, &vals);
+  }
+}

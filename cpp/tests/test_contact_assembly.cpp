@@ -28,16 +28,7 @@ namespace
 std::vector<double> dense(Mat A, int n)
 {
   std::vector<double> out(n * n, 0.0);
-  for (PetscInt r = 0; r < n; ++r)
-  {
-    PetscInt ncols;
-    const PetscInt* cols;
-    const PetscScalar* vals;
-    MatGetRow(A, r, &ncols, &cols, &vals);
-    for (PetscInt k = 0; k < ncols; ++k)
-      out[r * n + cols[k]] = vals[k];
-    MatRestoreRow(A, r, &ncols, &cols, &vals);
-  }
+  for_each_entry(A, [&](PetscInt r, PetscInt c, PetscScalar v) { out[r * n + c] = v; });
   return out;
 }
 

@@ -23,19 +23,12 @@ std::vector<std::set<PetscInt>> rows_of(Mat A, bool& any_nonzero)
   MatGetSize(A, &m, &n);
   std::vector<std::set<PetscInt>> rows(m);
   any_nonzero = false;
-  for (PetscInt i = 0; i < m; ++i)
-  {
-    PetscInt ncols;
-    const PetscInt* cols;
-    const PetscScalar* values;
-    MatGetRow(A, i, &ncols, &cols, &values);
-    for (PetscInt k = 0; k < ncols; ++k)
-    {
-      rows[i].insert(cols[k]);
-      any_nonzero = any_nonzero or values[k] != 0.0;
-    }
-    MatRestoreRow(A, i, &ncols, &cols, &values);
-  }
+  for_each_entry(A,
+                 [&](PetscInt r, PetscInt c, PetscScalar v)
+                 {
+                   rows[r].insert(c);
+                   any_nonzero = any_nonzero or v != 0.0;
+                 });
   return rows;
 }
 } // namespace
