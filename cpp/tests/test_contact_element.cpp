@@ -2,6 +2,7 @@
 // contact element against central finite differences.
 #include "fd.h"
 #include <textile/contact/contact_element.h>
+#include <textile/contact/tolerances.h>
 #include <textile/contact/regularized_penalty.h>
 
 #include <gtest/gtest.h>
@@ -155,7 +156,11 @@ TEST(RegularizedCoulomb, StickPointUpdateKeepsReversibleSlip)
   const Eigen::Vector3d N(0, 0, 1), stick(0, 0, 0), delta(5e-3, -2e-3, -1e-4);
   const Eigen::Vector3d s = updated_stick(N, fr, delta, stick);
   const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - N * N.transpose();
-  EXPECT_NEAR((P * (delta - s)).norm(), fr.u_rev, 1e-15); // on the slip surface
+  // on the slip surface, just inside it (stick_margin): evaluated again
+  // at the same positions the element sticks, whatever the round-off
+  EXPECT_NEAR((P * (delta - s)).norm(), (1.0 - textile::contact::stick_margin) * fr.u_rev,
+              1e-15);
+  EXPECT_FALSE(fr.evaluate(2.0, P * (delta - s)).slip);
   // in stick nothing moves
   EXPECT_EQ(updated_stick(N, fr, Eigen::Vector3d(1e-4, 0, 0), stick), stick);
   // slip force magnitude is mu R_N, direction of the slip

@@ -285,11 +285,13 @@ def test_bundles_weave_the_same_on_two_ranks():
     q1, qn = w1.model.nodal_unknowns(), wn.model.nodal_unknowns()
     assert np.abs(q1[:, 0:3] - qn[:, 0:3]).max() < 1e-8 * w1.fabric.spacing[0]
     # issue 20: the relaxation within 20 Newton iterations, all its contact
-    # passes counted (measured 13); the weaving steps' largest count (21 with
-    # at most 3 iterations a contact pass; 46 with each pass's solve run to
-    # convergence; the issue asks 15) and the total are the guard's
+    # passes counted (measured 10), and every weaving step within 15 (the
+    # issue's; measured 15: with the tangent floor in every solve after a
+    # contact update, 21; with each pass's solve run to convergence, 46)
     relaxation = [h.newton_iterations for h in sn.history if h.stage == "relaxation"]
     assert max(relaxation) <= 20, relaxation
+    weaving = [h.newton_iterations for h in sn.history if h.stage != "relaxation"]
+    assert max(weaving) <= 15, weaving
     guard.newton_count("weave_bundles_7_lifting", sn)
 
 

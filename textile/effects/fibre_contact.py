@@ -107,15 +107,21 @@ class ContactOptions(Options):
         Look for contact of a fibre with distant parts of itself.
     tangent_floor:
         First-contact safeguard (stability issue item 5): the n-th tangent
-        of a Newton solve (n = 0, 1, ...) keeps at least tangent_floor x
-        0.1^n times the penalty for contact elements closed by less than
+        (n = 0, 1, ...) of a load-step attempt's first Newton solve keeps
+        at least tangent_floor x 0.1^n times the penalty for contact
+        elements closed by less than
         g_r (the law's quadratic part, whose stiffness vanishes at gap = 0)
         or open by less than g_r. A fibre pushed by a dead force onto
         another it just touches then moves by about the linear law's
         penetration in Newton's first iterate, not as far as the rest of the
         structure lets it (a residual of 1e13 after 3e-3). The floor fades
         within a few iterations (quadratic convergence again); the residual
-        is the law's, so the converged answer does not change. 0: off.
+        is the law's, so the converged answer does not change. The solves
+        after a contact update start near the contacts it found and have no
+        floor: with it, the weave's capped contact passes converged
+        linearly and the demo's largest weaving step took 21 Newton
+        iterations instead of 15 (benchmarks/README.md, "Matrix rebuilds as
+        compressed rows, and the contact loop's last passes"). 0: off.
     crossing_patch:
         How far a crossing's contact point may move within one Newton solve
         (docs/method.md §4.2, *facing*): 2 (default) over its element and the
@@ -475,7 +481,7 @@ class FibreContact(Effect):
         self.retuned_zones = 0
         self.penalty_conversions = 0
         self.held_contacts = 0
-        self._newton_pending = False  # a Newton solve follows (prepare, or update True)
+        self._first_solve = False  # the attempt's first Newton solve follows (tangent_floor)
         self._change = 0.0  # the last update's (update_change)
         self._node_gather, self._node_gather_set = None, None   # (_positions)
         self._view = None   # on several ranks, at the first pass (_pass_positions)
@@ -747,7 +753,7 @@ class FibreContact(Effect):
         self.held_contacts = 0
         # after a mode change, every attempt's first pass sets normals anew
         self._rebuild(state, reset_normals=self._reset_normals)
-        self._newton_pending = True
+        self._first_solve = True
 
     def _check_crossed(self) -> None:
         """After a converged Newton solve, at the set's evaluation: fibres
@@ -792,9 +798,9 @@ class FibreContact(Effect):
         changed = self._rebuild(state, persist=True) or emergency > 0
         if emergency and not self._change > 1.0:
             self._change = math.inf  # penalties retuned: Newton must run again
-        # another Newton solve follows only if something changed (not, e.g.,
-        # the stability check's factorization at the converged state)
-        self._newton_pending = changed
+        # the solves after an update start from an iterate near the contacts
+        # it found: no floor there (ContactOptions.tangent_floor)
+        self._first_solve = False
         return changed
 
     def update_change(self) -> float:
@@ -861,7 +867,7 @@ class FibreContact(Effect):
         # FLOOR_DECAY an iteration (first contact at zero gap, see
         # ContactOptions.tangent_floor); the model counts the iterations
         floor = self.options.tangent_floor * FLOOR_DECAY ** state.tangent_index \
-            if self._newton_pending else 0.0
+            if self._first_solve else 0.0
         self.set.set_tangent_floor(floor)
         # penetrations beyond the adaptation band: the tangent of held
         # points (ContactSet.set_motion_depth)

@@ -1,4 +1,5 @@
 #include "contact_element.h"
+#include "tolerances.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -96,7 +97,8 @@ Eigen::Vector3d updated_stick(const Eigen::Vector3d& N, const RegularizedCoulomb
   const double n = uT.norm();
   if (n <= friction.u_rev)
     return stick;
-  // keep the elastic part u_rev along the slip direction
-  return stick + (1.0 - friction.u_rev / n) * uT;
+  // keep the elastic part u_rev along the slip direction, just inside the
+  // stick cone (stick_margin, tolerances.h)
+  return stick + (1.0 - (1.0 - stick_margin) * friction.u_rev / n) * uT;
 }
 } // namespace textile::contact

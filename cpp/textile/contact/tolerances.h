@@ -127,4 +127,18 @@ inline constexpr double persist_drift = 0.01;
 /// (history_handover.h; on two ranks, tests/contact/test_capstan.py).
 inline constexpr double history_match_distance = 0.75;
 
+// -- friction ------------------------------------------------------------------
+
+/// Fraction of u_rev by which a slipping element's moved stick point
+/// leaves it inside the stick cone (updated_stick, contact_element.h):
+/// evaluated again at the same positions (the next step's first iterate),
+/// it is stick by 1e-8 of u_rev, far above round-off (about 1e-12 of it
+/// when the slip is 1e4 u_rev). On the cone exactly, round-off chose stick
+/// or slip, whose tangents differ by the whole friction stiffness along the
+/// slip: the capstan's slip reversal then cycled on one rank and not on two
+/// once the contact loop's later solves dropped the tangent floor. Pinned
+/// by tests/contact/test_capstan.py::test_capstan_on_two_ranks_equals_one
+/// (fails at 0). The force it changes is 1e-8 of the friction force.
+inline constexpr double stick_margin = 1e-8;
+
 } // namespace textile::contact
