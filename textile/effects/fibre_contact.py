@@ -118,10 +118,9 @@ class ContactOptions(Options):
         within a few iterations (quadratic convergence again); the residual
         is the law's, so the converged answer does not change. The solves
         after a contact update start near the contacts it found and have no
-        floor: with it, the weave's capped contact passes converged
-        linearly and the demo's largest weaving step took 21 Newton
-        iterations instead of 15 (benchmarks/README.md, "Matrix rebuilds as
-        compressed rows, and the contact loop's last passes"). 0: off.
+        floor (with it, the weave's capped contact passes converge only
+        linearly: benchmarks/README.md, "Matrix rebuilds as compressed rows,
+        and the contact loop's last passes"). 0: off.
     crossing_patch:
         How far a crossing's contact point may move within one Newton solve
         (docs/method.md §4.2, *facing*): 2 (default) over its element and the

@@ -9,9 +9,9 @@
 // assembly never reallocates.
 //
 // PETSc's MATPREALLOCATOR does this through a hash set of (row, column)
-// pairs and then inserts the zeros row by row: on the 7-fibre demo's
-// matrix (6852 rows, 1.4 million entries) that was 0.17 s a rebuild, 36
-// rebuilds a run. Here the base's rows are read once and kept; each
+// pairs and then inserts the zeros row by row, several times slower
+// (benchmarks/README.md, "Matrix rebuilds as compressed rows"). Here the
+// base's rows are read once and kept; each
 // rebuild appends the declared columns to their rows, sorts and merges
 // each row, and hands PETSc the finished rows in one call
 // (Mat{Seq,MPI}AIJSetPreallocationCSR).
