@@ -110,6 +110,27 @@ def test_bad_centreline_shapes(tmp_path, lines, pattern):
         write_fibres_vtu(tmp_path / "bad.vtu", lines)
 
 
+def test_equal_length_lines_as_one_array(tmp_path):
+    # contact segments come as one (n, 2, 3) array: the same file as the list
+    rng = np.random.default_rng(3)
+    lines = rng.random((4, 2, 3))
+    force = rng.random(4)
+    write_fibres_vtu(tmp_path / "array.vtu", lines, cell_data={"f": force})
+    write_fibres_vtu(tmp_path / "list.vtu", list(lines), cell_data={"f": force})
+    assert (tmp_path / "array.vtu").read_bytes() == (tmp_path / "list.vtu").read_bytes()
+    mesh = meshio.read(tmp_path / "array.vtu")
+    # each line its own segment, never joined to the next line
+    np.testing.assert_array_equal(mesh.cells[0].data, [[0, 1], [2, 3], [4, 5], [6, 7]])
+    # a non-finite coordinate is named by its line and point, nothing written
+    lines[2, 1, 0] = np.nan
+    with pytest.raises(ValueError, match=r"centrelines\[2\] .*non-finite.*point 1"):
+        write_fibres_vtu(tmp_path / "bad.vtu", lines)
+    assert not (tmp_path / "bad.vtu").exists()
+    # the array form needs lines of at least 2 points of 3 coordinates
+    with pytest.raises(ValueError, match=r"\(n_fibres, n >= 2, 3\)"):
+        write_fibres_vtu(tmp_path / "bad.vtu", np.zeros((4, 1, 3)))
+
+
 def test_bad_point_and_cell_data(tmp_path):
     lines = two_fibres()
     # point data must have one row per point (5), named in the message

@@ -273,7 +273,8 @@ class Output:
     def _write_contacts(self, record, d: dict) -> None:
         if self._contact_pvd is None:
             self._contact_pvd = PVDSeries(os.path.join(self.directory, "contacts.pvd"))
-        lines = [np.vstack([a, b]) for a, b in zip(d["position_i"], d["position_j"])]
+        # one two-point line per element, as one (n, 2, 3) array
+        lines = np.stack([d["position_i"], d["position_j"]], axis=1)
         name = os.path.join(self.directory, f"contacts_{record.step:05d}.vtu")
         write_fibres_vtu(name, lines, cell_data={
             "normal_force": d["normal_force"], "gap": d["gap"], "normal": d["normal"],

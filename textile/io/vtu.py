@@ -87,7 +87,9 @@ def check_centrelines(
 
     Args:
         centrelines: One array of shape ``(n_i, 3)`` per fibre, ``n_i >= 2``,
-            holding point coordinates (model length units).
+            holding point coordinates (model length units); or one array of
+            shape ``(n_fibres, n, 3)`` when every fibre has n points (checked
+            at once: contact segments, thousands a step).
         name: Argument name used in error messages.
 
     Returns:
@@ -102,6 +104,19 @@ def check_centrelines(
             f"{name} must be a list of (n_i, 3) arrays, one per fibre; "
             f"got a single array of shape {centrelines.shape} (wrap it in a list)"
         )
+    if isinstance(centrelines, np.ndarray) and centrelines.ndim == 3:
+        x = np.ascontiguousarray(centrelines, dtype=np.float64)
+        if x.shape[2] != 3 or x.shape[1] < 2:
+            raise ValueError(f"{name} as one array must have shape (n_fibres, n >= 2, 3); "
+                             f"got {x.shape}")
+        finite = np.isfinite(x).all(axis=2)
+        if not finite.all():
+            i, bad = (int(v) for v in np.argwhere(~finite)[0])
+            raise ValueError(f"{name}[{i}] has non-finite (NaN/inf) coordinates at point {bad}")
+        centrelines = list(x)
+        if not centrelines:
+            raise ValueError(f"{name} must contain at least one fibre")
+        return centrelines
     lines = list(centrelines)
     if not lines:
         raise ValueError(f"{name} must contain at least one fibre")
@@ -177,10 +192,12 @@ def _connectivity(counts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         ``(lines, fibre_of_segment)``: ``(n_segments, 2)`` global point
         indices and the fibre index of each segment.
     """
-    first = np.concatenate(([0], np.cumsum(counts)[:-1]))
-    starts = np.concatenate([f + np.arange(n - 1) for f, n in zip(first, counts)])
-    lines = np.column_stack((starts, starts + 1))
+    # every point starts a segment but each polyline's last
     fibre = np.repeat(np.arange(len(counts)), counts - 1)
+    starts = np.arange(int(np.sum(counts)))
+    last = np.cumsum(counts) - 1
+    starts = np.delete(starts, last)
+    lines = np.column_stack((starts, starts + 1))
     return lines, fibre
 
 
@@ -216,8 +233,12 @@ def write_fibres_vtu(
     import meshio
 
     lines = check_centrelines(centrelines, "centrelines")
-    counts = np.array([x.shape[0] for x in lines])
-    points = np.concatenate(lines)
+    if isinstance(centrelines, np.ndarray):  # (n_fibres, n, 3), checked: no copy per line
+        counts = np.full(len(lines), centrelines.shape[1])
+        points = np.ascontiguousarray(centrelines, dtype=np.float64).reshape(-1, 3)
+    else:
+        counts = np.array([x.shape[0] for x in lines])
+        points = np.concatenate(lines)
     connectivity, fibre_of_segment = _connectivity(counts)
 
     def typed(fields, arg):
