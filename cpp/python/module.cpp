@@ -242,6 +242,19 @@ PYBIND11_MODULE(_cpp, m)
       "tangent being assembled, -1 keeps the last factorization; read after the Jacobian "
       "callback, so the callback may set it");
 
+  m.def(
+      "set_diagonal_scale",
+      [](KSP ksp, bool on)
+      {
+        const PetscBool flag = on ? PETSC_TRUE : PETSC_FALSE;
+        assembly::check(KSPSetDiagonalScale(ksp, flag), "KSPSetDiagonalScale");
+        assembly::check(KSPSetDiagonalScaleFix(ksp, flag), "KSPSetDiagonalScaleFix");
+      },
+      py::arg("ksp"), py::arg("on"),
+      "KSPSetDiagonalScale and KSPSetDiagonalScaleFix (petsc4py 3.18 has no binding): solve "
+      "D A D y = D b, x = D y with D = |diag A|^(-1/2) (1 where the diagonal is 0), A "
+      "scaled back after each solve");
+
   declare_contact(m);
   declare_rigid(m);
   declare_junction(m);

@@ -47,6 +47,21 @@ def test_same_answer_within_the_solver_tolerance(reference, options):
         assert c["matrix_vector_products"] > c["linear_solves"]  # GMRES on the exact tangent
 
 
+def test_lu_is_scaled_by_the_diagonal_and_mumps_scales_nothing(reference):
+    # LU: KSP's diagonal scaling, MUMPS's own off (ICNTL(8) = 0); the answer
+    # is LDL^T's unscaled one (test_same_answer_within_the_solver_tolerance)
+    _, solver = reference
+    factor = solver.linear.snes.getKSP().getPC().getFactorMatrix()
+    assert solver.linear.diagonal_scale and factor.getMumpsIcntl(8) == 0
+    # LDL^T (the stability check's inverse) and the Krylov paths: unscaled,
+    # MUMPS's automatic scaling (77)
+    for options in (dict(factorization="cholesky"),
+                    dict(factorization="lu", reuse_factorization=3)):
+        _, other = cantilevers(n_fibres=1, options=options)
+        factor = other.linear.snes.getKSP().getPC().getFactorMatrix()
+        assert not other.linear.diagonal_scale and factor.getMumpsIcntl(8) == 77
+
+
 def test_auto_picks_ldlt_only_for_symmetric_scenes():
     _, solver = cantilevers(n_fibres=1)
     assert solver.linear.kind == "cholesky"

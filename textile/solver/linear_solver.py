@@ -17,6 +17,19 @@ iterations or accuracy:
 - ``low_rank_tolerance > 0``: MUMPS block low-rank factorization (an
   approximate LU, used as a preconditioner of GMRES on the exact tangent).
 
+MUMPS LU factorizes the tangent scaled symmetrically by its diagonal,
+D K D with D = |diag K|^(-1/2) (1 on a zero diagonal: multiplier rows),
+and MUMPS scales nothing itself (ICNTL(8) = 0; KSP's diagonal scaling, the
+tangent scaled back after each solve). MUMPS's own choice, an iterative
+row and column scaling (ICNTL(8) = 7), is computed again at every
+numeric factorization; the diagonal costs one pass over the entries.
+With no scaling at all the pivoting degenerates (factorizations several
+times slower); the diagonal one pivots as well as MUMPS's on the fibre
+tangents. LU only: the LDL^T factorization is also the inverse of the
+unscaled tangent for the stability check's eigen-solves (``PC.apply``),
+and the Krylov paths keep an older factorization across tangents. The
+measured figures are in benchmarks/README.md ("MUMPS scaling").
+
 A MUMPS factorization that runs out of the workspace its analysis
 estimated (numerical pivoting on multiplier rows can need more) is retried
 with twice the relaxation ICNTL(14) (:meth:`LinearSolver.grow_workspace`,
@@ -89,10 +102,21 @@ class LinearSolver:
     def _configure_pc(self) -> None:
         """The PC factorizes with ``self.kind`` (its options with it)."""
         o, prefix = self.options, self.prefix
-        pc = self.snes.getKSP().getPC()
+        ksp = self.snes.getKSP()
+        pc = ksp.getPC()
         pc.setType(self.kind)
         if o.linear_solver != "petsc":
             pc.setFactorSolverType(o.linear_solver)
+        # the diagonal scaling instead of MUMPS's (module docstring)
+        scaled = o.linear_solver == "mumps" and self.kind == "lu" and not self.krylov
+        _cpp.set_diagonal_scale(ksp, scaled)
+        icntl_8 = prefix + "mat_mumps_icntl_8"
+        user_set = any(k.lstrip("-") == "mat_mumps_icntl_8" for k in o.petsc_options)
+        if scaled and not user_set:
+            PETSc.Options()[icntl_8] = 0
+        elif not user_set:
+            PETSc.Options().delValue(icntl_8)
+        self.diagonal_scale = scaled
         if o.linear_solver == "mumps" and self.kind == "cholesky":
             opts = PETSc.Options()
             # inertia (negative pivots) for the stability check: MUMPS
