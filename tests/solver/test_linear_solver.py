@@ -30,6 +30,7 @@ def reference():
 
 
 @pytest.mark.parametrize("options", [dict(factorization="cholesky"),
+                                     dict(factorization="lu", scaling="mumps"),
                                      dict(reuse_factorization=3),
                                      dict(low_rank_tolerance=1e-8),
                                      dict(linear_solver="superlu_dist", factorization="lu")])
@@ -56,7 +57,8 @@ def test_lu_is_scaled_by_the_diagonal_and_mumps_scales_nothing(reference):
     # LDL^T (the stability check's inverse) and the Krylov paths: unscaled,
     # MUMPS's automatic scaling (77)
     for options in (dict(factorization="cholesky"),
-                    dict(factorization="lu", reuse_factorization=3)):
+                    dict(factorization="lu", reuse_factorization=3),
+                    dict(factorization="lu", scaling="mumps")):
         _, other = cantilevers(n_fibres=1, options=options)
         factor = other.linear.snes.getKSP().getPC().getFactorMatrix()
         assert not other.linear.diagonal_scale and factor.getMumpsIcntl(8) == 77
@@ -81,6 +83,7 @@ def test_bad_options_are_named():
     for bad, match in [(dict(factorization="qr"), "factorization"),
                        (dict(reuse_factorization=0), "reuse_factorization"),
                        (dict(low_rank_tolerance=-1), "low_rank_tolerance"),
+                       (dict(scaling="none"), "scaling"),
                        (dict(newton="quasi"), "newton"),
                        (dict(newton_per_pass=-1), "newton_per_pass must be a non-negative"),
                        (dict(newton_per_pass=2.5), "newton_per_pass must be a non-negative")]:

@@ -17,7 +17,8 @@ iterations or accuracy:
 - ``low_rank_tolerance > 0``: MUMPS block low-rank factorization (an
   approximate LU, used as a preconditioner of GMRES on the exact tangent).
 
-MUMPS LU factorizes the tangent scaled symmetrically by its diagonal,
+MUMPS LU factorizes the tangent scaled symmetrically by its diagonal
+(``SolverOptions.scaling``, default "diagonal"),
 D K D with D = |diag K|^(-1/2) (1 on a zero diagonal: multiplier rows),
 and MUMPS scales nothing itself (ICNTL(8) = 0; KSP's diagonal scaling, the
 tangent scaled back after each solve). MUMPS's own choice, an iterative
@@ -108,7 +109,8 @@ class LinearSolver:
         if o.linear_solver != "petsc":
             pc.setFactorSolverType(o.linear_solver)
         # the diagonal scaling instead of MUMPS's (module docstring)
-        scaled = o.linear_solver == "mumps" and self.kind == "lu" and not self.krylov
+        scaled = o.scaling == "diagonal" and o.linear_solver == "mumps" \
+            and self.kind == "lu" and not self.krylov
         _cpp.set_diagonal_scale(ksp, scaled)
         icntl_8 = prefix + "mat_mumps_icntl_8"
         user_set = any(k.lstrip("-") == "mat_mumps_icntl_8" for k in o.petsc_options)

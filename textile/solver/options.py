@@ -113,6 +113,13 @@ class SolverOptions(Options):
     krylov_rtol, krylov_max_it:
         GMRES tolerance and iteration limit when a factorization is reused
         or approximate.
+    scaling:
+        How MUMPS's LU factorizations (and only those: not LDL^T, not the
+        Krylov paths) see the tangent: "diagonal" (default) scaled
+        symmetrically by its diagonal, MUMPS scaling nothing itself; "mumps":
+        unscaled, MUMPS's own automatic scaling, computed again at every
+        factorization (:mod:`textile.solver.linear_solver`). The same answer
+        (benchmarks/README.md, "MUMPS scaling").
     low_rank_tolerance:
         > 0: MUMPS block low-rank factorization with this compression
         tolerance (an approximate factorization preconditioning GMRES).
@@ -168,6 +175,7 @@ class SolverOptions(Options):
     reuse_factorization: int = 1
     krylov_rtol: float = 1e-9
     krylov_max_it: int = 40
+    scaling: str = "diagonal"
     low_rank_tolerance: float = 0.0
     petsc_options: dict = field(default_factory=dict)
     stability_check: str = "auto"
@@ -188,7 +196,7 @@ class SolverOptions(Options):
         choices = dict(newton=("standard", "mip"), predictor=("auto", "secant", "none"),
                        linear_solver=("mumps", "superlu_dist", "petsc"),
                        factorization=("auto", "lu", "cholesky"),
-                       stability_check=("auto", "off"))
+                       stability_check=("auto", "off"), scaling=("diagonal", "mumps"))
         for name, allowed in choices.items():
             if getattr(self, name) not in allowed:
                 raise ValueError(f"SolverOptions.{name} must be one of {allowed}, "
