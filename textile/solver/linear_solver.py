@@ -17,11 +17,11 @@ iterations or accuracy:
 - ``low_rank_tolerance > 0``: MUMPS block low-rank factorization (an
   approximate LU, used as a preconditioner of GMRES on the exact tangent).
 
-MUMPS LU factorizes the tangent scaled symmetrically by its diagonal
-(``SolverOptions.scaling``, default "diagonal"),
-D K D with D = |diag K|^(-1/2) (1 on a zero diagonal: multiplier rows),
-and MUMPS scales nothing itself (ICNTL(8) = 0; KSP's diagonal scaling, the
-tangent scaled back after each solve). MUMPS's own choice, an iterative
+With ``SolverOptions.scaling = "diagonal"`` (the default) MUMPS LU
+factorizes the tangent scaled symmetrically by its diagonal, D K D with
+D = |diag K|^(-1/2) (1 on a zero diagonal: multiplier rows), and scales
+nothing itself (ICNTL(8) = 0; KSP's diagonal scaling, the tangent scaled
+back after each solve). MUMPS's own choice, an iterative
 row and column scaling (ICNTL(8) = 7), is computed again at every
 numeric factorization; the diagonal costs one pass over the entries.
 With no scaling at all the pivoting degenerates (factorizations several
