@@ -156,11 +156,18 @@ PYBIND11_MODULE(_cpp, m)
       .def(
           "assemble_matrix",
           [](const assembly::BeamAssembler& self, Mat A, const carray<double>& u,
-             const carray<std::int32_t>& dofs, const std::optional<carray<double>>& du)
-          { self.assemble_matrix(A, cspan(u), cspan(dofs), du ? cspan(*du) : std::span<const double>()); },
+             const carray<std::int32_t>& dofs, const std::optional<carray<double>>& du,
+             const std::optional<carray<double>>& du_weights)
+          {
+            self.assemble_matrix(A, cspan(u), cspan(dofs),
+                                 du ? cspan(*du) : std::span<const double>(),
+                                 du_weights ? cspan(*du_weights) : std::span<const double>());
+          },
           py::arg("A"), py::arg("u"), py::arg("dofs"), py::arg("du") = py::none(),
+          py::arg("du_weights") = py::none(),
           "A += tangent; with du (the last Newton update, 9 per local node) the MIP Newton "
-          "tangent")
+          "tangent; du may hold k updates one after another (k x 9 per local node), "
+          "weighted by du_weights (k values; None: 1)")
       .def(
           "fields",
           [](const assembly::BeamAssembler& self, const carray<double>& u)

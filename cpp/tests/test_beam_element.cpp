@@ -253,11 +253,12 @@ namespace
 /// Tangent of one element, optionally the MIP Newton tangent for update dx.
 Eigen::MatrixXd tangent(const ElementRule& rule, const Material& mat,
                         const SectionQuadrature& sec, const std::vector<double>& X,
-                        const std::vector<double>& x, const std::vector<double>& dx = {})
+                        const std::vector<double>& x, const std::vector<double>& dx = {},
+                        const std::vector<double>& weights = {})
 {
   const std::size_t n = X.size();
   std::vector<double> K(n * n, 0.0);
-  element_residual_tangent(rule, mat, sec, X, x, {}, K, dx);
+  element_residual_tangent(rule, mat, sec, X, x, {}, K, dx, weights);
   return Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
       K.data(), n, n);
 }
@@ -295,9 +296,10 @@ protected:
   const std::vector<double> zero = std::vector<double>(X.size(), 0.0);
   std::mt19937 gen{5};
 
-  Eigen::MatrixXd K(const std::vector<double>& x, const std::vector<double>& dx = {})
+  Eigen::MatrixXd K(const std::vector<double>& x, const std::vector<double>& dx = {},
+                    const std::vector<double>& weights = {})
   {
-    return tangent(rule, mat, sec, X, x, dx);
+    return tangent(rule, mat, sec, X, x, dx, weights);
   }
 };
 
@@ -362,6 +364,35 @@ TEST_P(MipTangent, DiffersByTheGeometricStiffnessOfTheUpdatesQuadraticStrain)
   const Eigen::MatrixXd D = K(x1) - K(x1, map_vectors(M, X));
   ASSERT_GT(Kgeo.norm(), 1e-3 * K(x1).norm());
   EXPECT_LT((D - Kgeo).norm(), 1e-13 * Kgeo.norm()); // round-off, measured 2.3e-14
+}
+
+TEST_P(MipTangent, WeightedUpdatesAddTheirGeometricStiffnesses)
+{
+  // k updates with weights c_k (a predicted state's extrapolated stress):
+  // K_exact - K_mip = sum_k c_k (K_exact - K_mip(du_k)), the strain
+  // correction being linear in each quadratic form.
+  const std::size_t n = X.size();
+  const auto x = random_state(X, 0.08, gen);
+  const auto du1 = random_state(zero, 0.1, gen), du2 = random_state(zero, 0.1, gen);
+  std::vector<double> both(du1);
+  both.insert(both.end(), du2.begin(), du2.end());
+  const Eigen::MatrixXd K0 = K(x), D1 = K0 - K(x, du1), D2 = K0 - K(x, du2);
+  const Eigen::MatrixXd D = K0 - K(x, both, {1.5, -0.5});
+  ASSERT_GT(D.norm(), 1e-3 * K0.norm()); // not a vacuous test
+  // round-off of three differences of larger tangents (measured 5.6e-15)
+  EXPECT_LT((D - 1.5 * D1 + 0.5 * D2).norm(), 2e-14 * D.norm());
+  // one update of weight 4 is the update doubled, weight 1 the plain MIP
+  std::vector<double> twice(n);
+  for (std::size_t i = 0; i < n; ++i)
+    twice[i] = 2 * du1[i];
+  EXPECT_LT((K(x, du1, {4.0}) - K(x, twice)).norm(), 3e-15 * K0.norm());
+  EXPECT_EQ((K(x, du1, {1.0}) - K(x, du1)).norm(), 0.0);
+  // sizes: weights must match the updates, at most max_mip_updates of them
+  EXPECT_THROW(K(x, both, {1.0}), std::invalid_argument);
+  std::vector<double> too_many;
+  for (int k = 0; k <= max_mip_updates; ++k)
+    too_many.insert(too_many.end(), du1.begin(), du1.end());
+  EXPECT_THROW(K(x, too_many), std::invalid_argument);
 }
 
 INSTANTIATE_TEST_SUITE_P(ElementTypes, MipTangent,

@@ -175,10 +175,13 @@ double BeamAssembler::assemble_vector(std::span<const double> u, std::span<doubl
 
 void BeamAssembler::assemble_matrix(Mat A, std::span<const double> u,
                                     std::span<const std::int32_t> dofs,
-                                    std::span<const double> du) const
+                                    std::span<const double> du,
+                                    std::span<const double> du_weights) const
 {
-  if (u.size() != _X.size() or dofs.size() != _X.size()
-      or (!du.empty() and du.size() != _X.size()))
+  const std::size_t num_du = du.size() / std::max<std::size_t>(_X.size(), 1);
+  if (u.size() != _X.size() or dofs.size() != _X.size() or du.size() != num_du * _X.size()
+      or num_du > beam::max_mip_updates
+      or (!du_weights.empty() and du_weights.size() != num_du))
     throw std::invalid_argument("BeamAssembler::assemble_matrix: wrong array size");
   const int nn = _rule.num_nodes, nd = dofs_per_node * nn;
   std::vector<std::int32_t> idx(nd * _group.size());
@@ -188,15 +191,16 @@ void BeamAssembler::assemble_matrix(Mat A, std::span<const double> u,
       A, idx, nd,
       [&](std::size_t e, std::span<double> Ke)
       {
-        std::array<double, 27> xe, dxe;
+        std::array<double, 27> xe;
+        std::array<double, 27 * beam::max_mip_updates> dxe;
         current(e, u, std::span(xe).first(nd));
-        if (!du.empty())
-          gather<double>(e, du, std::span(dxe).first(nd));
+        for (std::size_t k = 0; k < num_du; ++k)
+          gather<double>(e, du.subspan(k * _X.size(), _X.size()),
+                         std::span(dxe).subspan(k * nd, nd));
         on_element(e, [&] {
           return beam::element_residual_tangent(
               _rule, _materials[_group[e]], _sections[_group[e]], reference(e),
-              std::span(xe).first(nd), {}, Ke,
-              du.empty() ? std::span<const double>() : std::span(dxe).first(nd));
+              std::span(xe).first(nd), {}, Ke, std::span(dxe).first(num_du * nd), du_weights);
         });
       },
       threads_for_elements());

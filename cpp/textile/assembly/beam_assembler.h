@@ -54,9 +54,11 @@ public:
   /// A += tangent. dofs[9*i + k] is the matrix-local index of unknown k of
   /// local node i, or -1 where the dof is constrained. du: empty for the
   /// exact tangent, or the last Newton update (9 per local node) for the MIP
-  /// Newton tangent (see beam::element_residual_tangent).
+  /// Newton tangent (see beam::element_residual_tangent), or k such
+  /// updates one after another with their k weights du_weights.
   void assemble_matrix(Mat A, std::span<const double> u, std::span<const std::int32_t> dofs,
-                       std::span<const double> du = {}) const;
+                       std::span<const double> du = {},
+                       std::span<const double> du_weights = {}) const;
 
   /// Element-averaged section strain and stress, 12 values per element
   /// (Voigt strain then stress).

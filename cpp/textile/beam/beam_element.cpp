@@ -229,7 +229,7 @@ template <int N>
 double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadrature& sec,
                 std::span<const ReferencePoint> ref, std::span<const double> x,
                 std::span<double> r, std::span<double> K, std::span<const double> dx,
-                ElementFields* fields)
+                std::span<const double> dx_weights, ElementFields* fields)
 {
   constexpr int ndof = dofs_per_node * N;
   using DofMat = Eigen::Matrix<double, ndof, ndof>;
@@ -237,7 +237,8 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
   const Eigen::Map<const Eigen::Matrix<double, 3, 3 * N>> q(x.data());
   const bool want_r = !r.empty(), want_K = !K.empty();
   const bool mip = want_K and !dx.empty();
-  const Eigen::Map<const Eigen::Matrix<double, 3, 3 * N>> dq(mip ? dx.data() : x.data());
+  // the MIP's updates (check_sizes: 1 to max_mip_updates of ndof values each)
+  const int num_dx = mip ? static_cast<int>(dx.size()) / ndof : 0;
   const VoigtMatrix C = mat.elasticity();
   // the fluctuation law is diagonal (material.h): its moduli as a vector
   const Voigt D = mat.fluctuation_elasticity().diagonal();
@@ -259,7 +260,10 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
   {
     lagrange(N, rule.axial.points[g], n, dn);
     const ZMat z = convected<N>(q, n, dn);
-    const ZMat dz = mip ? convected<N>(dq, n, dn) : ZMat::Zero();
+    std::array<ZMat, max_mip_updates> dz;
+    for (int k = 0; k < num_dx; ++k)
+      dz[k] = convected<N>(Eigen::Map<const Eigen::Matrix<double, 3, 3 * N>>(dx.data() + k * ndof),
+                           n, dn);
 
     // pass 1: strains and their section averages
     double W = 0;
@@ -279,7 +283,10 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
       p.eps = green_lagrange(p.h);
       // MIP: E(x) - 1/2 h(dx)^T h(dx), the linear extrapolation of E from
       // the previous iterate (see beam_element.h)
-      p.eps_geo = mip ? Voigt(p.eps - half_gram(deformation(dz, rp.B, xi1, xi2))) : p.eps;
+      p.eps_geo = p.eps;
+      for (int k = 0; k < num_dx; ++k)
+        p.eps_geo -= (dx_weights.empty() ? 1.0 : dx_weights[k])
+                     * half_gram(deformation(dz[k], rp.B, xi1, xi2));
       W += p.dV;
       eps_bar += p.dV * p.eps;
       eps_geo_bar += p.dV * p.eps_geo;
@@ -416,7 +423,7 @@ double evaluate(const ElementRule& rule, const Material& mat, const SectionQuadr
 
 void check_sizes(const ElementRule& rule, const SectionQuadrature& section, std::size_t num_ref,
                  std::span<const double> x, std::span<double> r, std::span<double> K,
-                 std::span<const double> dx)
+                 std::span<const double> dx, std::span<const double> dx_weights)
 {
   if (rule.num_nodes != 2 and rule.num_nodes != 3)
     throw std::invalid_argument("beam element: num_nodes must be 2 or 3");
@@ -424,7 +431,9 @@ void check_sizes(const ElementRule& rule, const SectionQuadrature& section, std:
     throw std::invalid_argument("beam element: empty axial quadrature");
   const std::size_t n = dofs_per_node * rule.num_nodes;
   if (x.size() != n or (!r.empty() and r.size() != n) or (!K.empty() and K.size() != n * n)
-      or (!dx.empty() and dx.size() != n) or num_ref != num_points(rule, section))
+      or dx.size() % n != 0 or dx.size() > max_mip_updates * n
+      or (!dx_weights.empty() and dx_weights.size() * n != dx.size())
+      or num_ref != num_points(rule, section))
     throw std::invalid_argument("beam element: wrong local array size");
 }
 
@@ -446,34 +455,36 @@ double element_residual_tangent(const ElementRule& rule, const Material& mat,
                                 const SectionQuadrature& section,
                                 std::span<const ReferencePoint> ref, std::span<const double> x,
                                 std::span<double> r, std::span<double> K,
-                                std::span<const double> dx)
+                                std::span<const double> dx,
+                                std::span<const double> dx_weights)
 {
-  check_sizes(rule, section, ref.size(), x, r, K, dx);
+  check_sizes(rule, section, ref.size(), x, r, K, dx, dx_weights);
   if (rule.num_nodes == 2)
-    return evaluate<2>(rule, mat, section, ref, x, r, K, dx, nullptr);
-  return evaluate<3>(rule, mat, section, ref, x, r, K, dx, nullptr);
+    return evaluate<2>(rule, mat, section, ref, x, r, K, dx, dx_weights, nullptr);
+  return evaluate<3>(rule, mat, section, ref, x, r, K, dx, dx_weights, nullptr);
 }
 
 double element_residual_tangent(const ElementRule& rule, const Material& mat,
                                 const SectionQuadrature& section,
                                 std::span<const double> X, std::span<const double> x,
                                 std::span<double> r, std::span<double> K,
-                                std::span<const double> dx)
+                                std::span<const double> dx,
+                                std::span<const double> dx_weights)
 {
   return element_residual_tangent(rule, mat, section, reference_of(rule, section, X), x, r, K,
-                                  dx);
+                                  dx, dx_weights);
 }
 
 ElementFields element_fields(const ElementRule& rule, const Material& mat,
                              const SectionQuadrature& section,
                              std::span<const ReferencePoint> ref, std::span<const double> x)
 {
-  check_sizes(rule, section, ref.size(), x, {}, {}, {});
+  check_sizes(rule, section, ref.size(), x, {}, {}, {}, {});
   ElementFields f;
   if (rule.num_nodes == 2)
-    evaluate<2>(rule, mat, section, ref, x, {}, {}, {}, &f);
+    evaluate<2>(rule, mat, section, ref, x, {}, {}, {}, {}, &f);
   else
-    evaluate<3>(rule, mat, section, ref, x, {}, {}, {}, &f);
+    evaluate<3>(rule, mat, section, ref, x, {}, {}, {}, {}, &f);
   return f;
 }
 

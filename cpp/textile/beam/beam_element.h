@@ -68,14 +68,22 @@ namespace textile::beam
 ///              the energy are unchanged. It keeps a large-rotation update
 ///              from feeding the spurious quadratic strain of the update
 ///              into the next geometric stiffness. dx = 0 gives the exact
-///              tangent.
+///              tangent. dx may also hold k <= max_mip_updates updates
+///              one after another, with dx_weights their k weights c_k
+///              (empty: all 1): E_mip = E(x) - 1/2 sum_k c_k h(dx_k)^T
+///              h(dx_k), the form a predicted state's extrapolated stress
+///              takes (textile/solver/contact_loop.py).
 /// @return The element's stored energy.
 /// @throws GeometryError if det F <= 0 (folded element) at a point.
+/// Most updates a MIP tangent's strain correction may combine (dx above).
+inline constexpr int max_mip_updates = 6;
+
 double element_residual_tangent(const ElementRule& rule, const Material& mat,
                                 const SectionQuadrature& section,
                                 std::span<const double> X, std::span<const double> x,
                                 std::span<double> r, std::span<double> K,
-                                std::span<const double> dx = {});
+                                std::span<const double> dx = {},
+                                std::span<const double> dx_weights = {});
 
 /// The same with the element's reference data already evaluated
 /// (reference_points(rule, section, X, ref)): what an assembler calls.
@@ -83,7 +91,8 @@ double element_residual_tangent(const ElementRule& rule, const Material& mat,
                                 const SectionQuadrature& section,
                                 std::span<const ReferencePoint> ref, std::span<const double> x,
                                 std::span<double> r, std::span<double> K,
-                                std::span<const double> dx = {});
+                                std::span<const double> dx = {},
+                                std::span<const double> dx_weights = {});
 
 /// Section-averaged Green-Lagrange strain and second Piola-Kirchhoff stress
 /// (Voigt, local frame), averaged over the element's axial points.
