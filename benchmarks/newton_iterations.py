@@ -19,7 +19,7 @@ Cases:
   the uniform, stable state; a localized state is unstable).
 
 Variants: ``newton`` "standard" or "mip" (SolverOptions.newton) times
-``predictor`` "auto", "secant" or "none". For each: steps, Newton iterations per
+``predictor`` "auto", "secant", "parabola" or "none". For each: steps, Newton iterations per
 step (mean, max), all Newton iterations and factorizations counted by the
 solver (failed attempts included), Newton solves, failed attempts, wall
 time, the answer. ``--history`` prints the residual history of one roll-up
@@ -45,7 +45,7 @@ from textile import runtime
 
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "output")
 E, NU = 1.0e9, 0.3
-VARIANTS = [(n, p) for n in ("standard", "mip") for p in ("auto", "secant", "none")]
+VARIANTS = [(n, p) for n in ("standard", "mip") for p in ("auto", "secant", "parabola", "none")]
 
 
 def run(model, options, answer) -> dict:

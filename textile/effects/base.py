@@ -39,7 +39,12 @@ class State:
         minus the previous linearization point), set only for the tangent
         that SNES asks for; empty otherwise. Effects may use it for a
         mixed-integration-point (MIP) tangent; with du empty (or zero) the
-        tangent must be the exact derivative of the residual.
+        tangent must be the exact derivative of the residual. At a predicted
+        state (System.set_predicted_stress) it holds k differences of
+        states one after another (k times the field's local size).
+    du_weights:
+        Field name -> the k weights of du's differences, set with them
+        (absent: one update of weight 1).
     tangent_index:
         For a tangent (Effect.jacobian): how many tangents the model has
         assembled since the solver last ran the effects' ``prepare`` or
@@ -56,6 +61,7 @@ class State:
     u: dict[str, np.ndarray] = field(default_factory=dict)
     dofs: dict[str, np.ndarray] = field(default_factory=dict)
     du: dict[str, np.ndarray] = field(default_factory=dict)
+    du_weights: dict[str, np.ndarray] = field(default_factory=dict)
     tangent_index: int = 0
     vector: object = None
 

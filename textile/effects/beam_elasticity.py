@@ -62,7 +62,7 @@ class BeamElasticity(Effect):
         # with the last Newton update (SolverOptions(newton="mip")) the
         # geometric stiffness uses the linearly extrapolated (MIP) stress
         self._assembler.assemble_matrix(A, state.u["beam"], state.dofs["beam"],
-                                        state.du.get("beam"))
+                                        state.du.get("beam"), state.du_weights.get("beam"))
 
     def element_fields(self, u_beam: np.ndarray) -> np.ndarray:
         """(local elements, 12): section-averaged GL strain and 2nd PK stress

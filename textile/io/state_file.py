@@ -10,18 +10,19 @@ the number of MPI ranks that wrote or read it (version 2):
     ``num_fibres``, ``num_nodes``, ``checksum`` (SHA-256 of everything else:
     a corrupt file is refused); with a solver: ``stage``, ``stage_index``,
     ``stage_started``, ``time``, ``steps``, ``next_step``,
-    ``previous_load_factor``, ``negative_eigenvalues`` (:meth:`Solver.position`).
+    ``previous_load_factor``, ``older_load_factor``, ``negative_eigenvalues``
+    (:meth:`Solver.position`).
 ``/fibres/reference`` (nodes, 9), ``/fibres/unknowns`` (nodes, 9)
     Reference [X0, G1, G2] and current displacements of every fibre node,
     in the global node numbering (fibre after fibre); ``/fibres/previous``
-    the secant predictor's earlier state within a stage.
+    and ``/fibres/older`` the predictor's earlier states within a stage.
 ``/fibres/first_node``, ``/fibres/radius``
     Where each fibre starts, and its radius.
 ``/fibres/data/<name>``
     Optional per-fibre labels given to :func:`save_state` (e.g. ``yarn``,
     each fibre's yarn), returned by :func:`load_state` under
     ``"fibre_data"``.
-``/fields/<name>/{keys,reference,unknowns[,previous]}``
+``/fields/<name>/{keys,reference,unknowns[,previous[,older]]}``
     Every other field of the system (a matrix block's node displacements,
     rigid bodies' unknowns, their couplings' multipliers), one row per
     block sorted by its key (:meth:`Model.block_keys`: a matrix node by its
@@ -199,7 +200,7 @@ def _gather_field(model, name: str, vectors: list, reference: np.ndarray) -> dic
     order = np.lexsort(keys.T[::-1])
     keys = keys[order]
     out = dict(keys=keys, reference=np.concatenate([p[1] for p in parts])[order])
-    for k, label in enumerate(["unknowns", "previous"][:len(vectors)]):
+    for k, label in enumerate(["unknowns", "previous", "older"][:len(vectors)]):
         out[label] = np.concatenate([p[2][k] for p in parts])[order]
     return out
 
@@ -225,13 +226,13 @@ def _collective(comm, message: str | None) -> None:
 
 def _field_values(model, data: dict, path: str) -> dict:
     """Field name -> local (owned + ghost) arrays of the saved unknowns (and
-    "previous" ones when saved), matched by key; a field, key or reference
+    "previous" and "older" ones when saved), matched by key; a field, key or reference
     that is not this model's raises SceneMismatchError (collective)."""
     saved_fields = dict(data.get("fields", {}))
     fib = data["fibres"]
     saved_fields["beam"] = dict(keys=np.arange(len(fib["unknowns"]), dtype=np.int64)[:, None],
-                                unknowns=fib["unknowns"], **(
-                                    {"previous": fib["previous"]} if "previous" in fib else {}))
+                                unknowns=fib["unknowns"],
+                                **{k: fib[k] for k in ("previous", "older") if k in fib})
     names = [f.name for f in model.layout.fields]
     extra = sorted(set(saved_fields) - set(names))
     missing = sorted(set(names) - set(saved_fields))
@@ -247,7 +248,7 @@ def _field_values(model, data: dict, path: str) -> dict:
         saved = saved_fields[f.name]
         keys = np.asarray(saved["keys"], dtype=np.int64)
         n_global = f.index_map.size_global
-        arrays = {k: np.asarray(saved[k], dtype=float) for k in ("unknowns", "previous")
+        arrays = {k: np.asarray(saved[k], dtype=float) for k in ("unknowns", "previous", "older")
                   if k in saved}
         for k, a in arrays.items():
             if a.shape != (len(keys), f.bs) or not np.all(np.isfinite(a)):
@@ -377,7 +378,8 @@ def save_state(model, path: str, solver=None, fibre_data=None) -> None:
         labels[name] = a
     position = solver.position() if solver is not None else None
     previous = solver.previous_state() if solver is not None else None
-    vectors = [model.x] + ([previous] if previous is not None else [])
+    older = solver.older_state() if previous is not None else None
+    vectors = [model.x] + [v for v in (previous, older) if v is not None]
     references = model.reference_values()
     fields = {f.name: _gather_field(model, f.name, vectors, references[f.name])
               for f in model.layout.fields}
@@ -393,8 +395,9 @@ def save_state(model, path: str, solver=None, fibre_data=None) -> None:
         fibres = dict(reference=mesh.X_global, unknowns=beam["unknowns"],
                       first_node=mesh.first_node,
                       radius=np.array([fib.radius for fib in mesh.fibres]), data=labels)
-        if "previous" in beam:
-            fibres["previous"] = beam["previous"]
+        for label in ("previous", "older"):
+            if label in beam:
+                fibres[label] = beam[label]
         twice = [name for name, fld in fields.items() if len(fld["keys"]) > 1 and np.any(
             np.all(fld["keys"][1:] == fld["keys"][:-1], axis=1))]
         try:   # an error on rank 0 alone is raised on every rank (below)
@@ -515,14 +518,16 @@ def load_state(model, path: str, solver=None) -> dict:
         e.load_state(model.system, effects[name])
     model.x.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
     if solver is not None and "stage" in attrs:
-        previous = None
+        previous = older = None
         if all("previous" in v for v in values.values()):
             previous = _set_fields(model, values, "previous", model.x.duplicate())
+        if all("older" in v for v in values.values()):
+            older = _set_fields(model, values, "older", model.x.duplicate())
         position = {k: attrs[k] for k in ("stage", "stage_index", "stage_started", "steps",
                                           "next_step", "previous_load_factor",
-                                          "negative_eigenvalues")
+                                          "older_load_factor", "negative_eigenvalues")
                     if k in attrs}
-        solver.resume(position, previous, following, matrix_changed)
+        solver.resume(position, previous, following, matrix_changed, older)
     elif solver is not None and matrix_changed:
         # saved without a solver: where the run stood is not known (a new
         # stage starts from here), but the system matrix is new

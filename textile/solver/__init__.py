@@ -182,9 +182,9 @@ class Solver:
     # -- load steps and stages -------------------------------------------------
     def step_to(self, t: float, predict: bool = True) -> Attempt:
         """One load-step attempt at load factor t from the current state
-        (:meth:`ContactLoop.step_to`, with the secant predictor's earlier
-        state)."""
-        return self.loop.step_to(t, predict, self.stepping.previous)
+        (:meth:`ContactLoop.step_to`, with the predictor's earlier
+        states)."""
+        return self.loop.step_to(t, predict, self.stepping.previous, self.stepping.older)
 
     def solve(self, t_end: float = 1.0) -> list[StepRecord]:
         """Advance the current stage from its load factor to ``t_end``
@@ -207,12 +207,17 @@ class Solver:
         return self.stepping.position()
 
     def previous_state(self):
-        """The secant predictor's earlier state (see position), or None."""
+        """The predictor's earlier state (see position), or None."""
         return self.stepping.previous_state()
 
-    def resume(self, position: dict, previous, following, matrix_changed: bool = False) -> None:
+    def older_state(self):
+        """The predictor's state before that (see position), or None."""
+        return self.stepping.older_state()
+
+    def resume(self, position: dict, previous, following, matrix_changed: bool = False,
+               older=None) -> None:
         """Continue from a saved state (:meth:`Stages.resume`)."""
-        self.stepping.resume(position, previous, following, matrix_changed)
+        self.stepping.resume(position, previous, following, matrix_changed, older)
 
     def resume_matrix(self) -> None:
         """The model has a new system matrix (a loaded state changed the

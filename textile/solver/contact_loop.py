@@ -44,13 +44,38 @@ class ContactLoop:
         errors = [e for e in self.comm.allgather(error) if e]
         return self.comm.allreduce(changed), (errors[0] if errors else "")
 
-    def step_to(self, t: float, predict: bool = True, previous=None) -> Attempt:
+    def extrapolate(self, points: list, t: float, stress: bool) -> list:
+        """Set the system's state to the polynomial through ``points``
+        [(load factor, state)] (the current state first, the system's state
+        now, then earlier converged ones), evaluated at t: x = sum_i w_i x_i with Lagrange
+        weights w_i (sum w_i = 1). Returns (if ``stress``, else []) what the
+        MIP tangent at that state needs for a stress extrapolated with the
+        same weights (System.set_predicted_stress): the strain is quadratic
+        in the state, so sum_i w_i E(x_i) = E(x) + sum_{i<j} w_i w_j 1/2 h(x_i -
+        x_j)^T h(x_i - x_j), i.e. the pairs (-w_i w_j, x_i - x_j). Without
+        it the tangent's stress would be the linear extrapolation from the
+        current state to the predicted one, whose spurious stretch (a
+        rotation's chord) stiffens bending until Newton has removed it
+        (benchmarks/README.md, "A predictor that extrapolates the stress
+        too")."""
+        m = self.system
+        w = [float(np.prod([(t - tj) / (ti - tj) for j, (tj, _) in enumerate(points) if j != i]))
+             for i, (ti, _) in enumerate(points)]
+        # x = x_0 + sum_{i>0} w_i (x_i - x_0): increments, not sums of states
+        for wi, (_, xi) in zip(w[1:], points[1:]):
+            d = xi - points[0][1]
+            m.x.axpy(wi, d)
+            d.destroy()
+        return [(-w[i] * w[j], points[i][1] - points[j][1])
+                for i in range(len(points)) for j in range(i + 1, len(points)) if stress]
+
+    def step_to(self, t: float, predict: bool = True, previous=None, older=None) -> Attempt:
         """One load-step attempt at load factor t from the current state:
         effects prepare (at the converged state), predictor, then Newton
         (loop 3) repeated while an effect updates what Newton held fixed
-        (loops 1-2: contact elements, normals, penalties). ``previous``:
-        (load factor, state) of the converged step before the current one,
-        for the secant predictor (None: none)."""
+        (loops 1-2: contact elements, normals, penalties). ``previous`` and
+        ``older``: (load factor, state) of the converged steps before the
+        current one, most recent first, for the predictor (None: none)."""
         m, o = self.system, self.options
         m.domain_error = None
         # at the last converged state: history (e.g. friction stick points)
@@ -61,14 +86,21 @@ class ContactLoop:
                            message=f"preparing effects: {error}")
         # the converged state is the linearization point of the predictor
         m.set_linearization_point()
-        prev = previous
         t_n = m.load_factor
         m.load_factor = t
-        if predict and o.predictor != "none" and prev is not None and prev[0] < t_n:
-            t_prev, x_prev = prev
+        order = 2 if o.predictor == "parabola" else 1
+        earlier = [p for p in (previous, older)[:order] if p is not None]
+        # only states before the current one, in order (none after a gap)
+        for k, p in enumerate(earlier):
+            if p[0] >= (t_n if k == 0 else earlier[k - 1][0]):
+                earlier = earlier[:k]
+                break
+        if predict and o.predictor != "none" and earlier:
             plain = m.x.copy()
-            # x += (t - t_n) / (t_n - t_prev) * (x_n - x_prev)
-            m.x.axpy((t - t_n) / (t_n - t_prev), m.x - x_prev)
+            # the stress extrapolated alike: for a chosen predictor (auto's
+            # first tangent is linearized from the converged state)
+            stress = self.extrapolate([(t_n, plain)] + earlier, t,
+                                      o.predictor != "auto" and m.newton == "mip")
             norm = self.newton.residual_norm
             if o.predictor == "auto":
                 # the state the last step chose is evaluated last: when it
@@ -83,6 +115,10 @@ class ContactLoop:
                 self.extrapolation_won = not extrapolated_norm > plain_norm
                 if not self.extrapolation_won:
                     plain.copy(m.x)  # the extrapolation is worse than none
+            if stress:
+                m.set_predicted_stress(stress)
+            for _, d in stress:
+                d.destroy()
             plain.destroy()
         m.apply_constraints(m.x)
         attempt = Attempt(False)

@@ -93,13 +93,21 @@ class SolverOptions(Options):
         is the same (iteration counts: benchmarks/README.md, "Solver
         options").
     predictor:
-        How a step starts: "secant" extrapolates the last converged
-        increment, which helps on smooth paths and overshoots large
-        rotations and contacts coming on; "none" starts from the last
-        converged state with the new loads and prescribed values; "auto"
-        (default) evaluates both starts and keeps the one with the smaller
-        residual (two residual evaluations a step). Iteration counts:
-        benchmarks/README.md, "Solver options".
+        How a step starts. "secant": on the line through the stage's last
+        two converged states; "parabola": on the parabola through its last
+        three (the secant at its second step); with the MIP Newton their
+        first tangent takes the stress extrapolated as the state is. They
+        suit smooth paths (large rotations: a roll-up needs 4 iterations a
+        step with the parabola) and overshoot contacts coming on. "none":
+        from the last converged state with the new loads and prescribed
+        values. "auto" (default): evaluates the secant's start and the
+        plain one and keeps the one with the smaller residual (two residual
+        evaluations a step), its first tangent linearized from the
+        converged state: a start chosen step by step may sit where the path
+        turns (contacts sliding, a twisted pair's snap), where the stress's
+        trend misleads (measured: the twisted pair then stops). Iteration
+        counts: benchmarks/README.md, "Solver options" and "A predictor
+        that extrapolates the stress too".
     linear_solver:
         "mumps" (default), "superlu_dist" or "petsc" (serial).
     factorization:
@@ -193,7 +201,8 @@ class SolverOptions(Options):
             raise ValueError("SolverOptions: need 0 < min_step <= initial_step <= max_step <= 1")
         if not 0 < self.cut < 1 or self.grow < 1:
             raise ValueError("SolverOptions: need 0 < cut < 1 and grow >= 1")
-        choices = dict(newton=("standard", "mip"), predictor=("auto", "secant", "none"),
+        choices = dict(newton=("standard", "mip"),
+                       predictor=("auto", "secant", "parabola", "none"),
                        linear_solver=("mumps", "superlu_dist", "petsc"),
                        factorization=("auto", "lu", "cholesky"),
                        stability_check=("auto", "off"), scaling=("diagonal", "mumps"))

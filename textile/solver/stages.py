@@ -66,7 +66,7 @@ class Stages(Stepping):
             self.newton.set_operators(self.system.A)
         self.newton.stage_began()
         self.options = options
-        self.previous = None  # no secant predictor across stages
+        self.previous = self.older = None  # no predictor across stages
         self.log(f"stage {self.stage_index}: {stage.name}")
         try:
             return self.solve(t_end)
@@ -101,8 +101,8 @@ class Stages(Stepping):
     def position(self) -> dict:
         """Where the run stands, for a saved state: the stage (name, index),
         the run's time, the steps converged so far, the step size the next
-        step takes (0 once the stage is complete), the load factor of the
-        secant predictor's earlier state (-1: none) and the negative
+        step takes (0 once the stage is complete), the load factors of the
+        predictor's earlier states (-1: none) and the negative
         eigenvalues at the last step; stage_started is 0 before any solve
         (the next stage starts from the saved state)."""
         m = self.model
@@ -114,19 +114,28 @@ class Stages(Stepping):
                     next_step=float(self.next_step or 0.0) if within else 0.0,
                     previous_load_factor=float(self.previous[0])
                     if within and self.previous is not None else -1.0,
+                    older_load_factor=float(self.older[0])
+                    if within and self.older is not None else -1.0,
                     negative_eigenvalues=self.stability.negative)
 
     def previous_state(self) -> PETSc.Vec | None:
-        """The secant predictor's earlier state (see position), or None."""
+        """The predictor's earlier state (see position), or None."""
         m = self.model
         within = self.stage_started and m.load_factor < 1.0 - 1e-14
         return self.previous[1] if within and self.previous is not None else None
 
+    def older_state(self) -> PETSc.Vec | None:
+        """The predictor's state before that (see position), or None."""
+        m = self.model
+        within = self.stage_started and m.load_factor < 1.0 - 1e-14
+        return self.older[1] if within and self.older is not None else None
+
     def resume(self, position: dict, previous: PETSc.Vec | None,
-               following: list[np.ndarray], matrix_changed: bool = False) -> None:
+               following: list[np.ndarray], matrix_changed: bool = False,
+               older: PETSc.Vec | None = None) -> None:
         """Continue from a saved state (:func:`textile.load_state`, which has
         set the model): ``position`` as :meth:`position` gave it,
-        ``previous`` the predictor's earlier state, ``following`` per
+        ``previous`` and ``older`` the predictor's earlier states, ``following`` per
         schedule of the model the components that followed a callable of s
         when saved. A state saved within a stage goes on in it with the
         saved step size and predictor, as the saving run would have:
@@ -141,11 +150,13 @@ class Stages(Stepping):
         self.stage_started = bool(position.get("stage_started", True))
         self.steps_before = int(position.get("steps", 0))
         self.stability.negative = int(position.get("negative_eigenvalues", 0))
-        self.previous = None
+        self.previous = self.older = None
         self.resuming = None
         if self.stage_started and m.load_factor < 1.0 - 1e-14:
             if previous is not None:
                 self.previous = (float(position["previous_load_factor"]), previous)
+                if older is not None and float(position.get("older_load_factor", -1.0)) >= 0:
+                    self.older = (float(position["older_load_factor"]), older)
             step = float(position.get("next_step", 0.0))
             self.resuming = dict(next_step=step if step > 0 else None, following=following)
 

@@ -74,6 +74,7 @@ class Stepping:
         self.base_options = loop.options
         self.history: list[StepRecord] = []
         self.previous = None  # (load factor, state) of the step before the last
+        self.older = None  # the same one step earlier (the quadratic predictor)
         self.first_increment = None  # (dt, du) of the first converged step
         self.stage = Stage("load")   # the implicit first stage
         self.stage_index = 0
@@ -139,7 +140,7 @@ class Stepping:
         while t < t_end - 1e-14:
             step = control.clip(dt, t, t_end)
             t0 = time.perf_counter()
-            attempt = self.loop.step_to(t + step, True, self.previous)
+            attempt = self.loop.step_to(t + step, True, self.previous, self.older)
             attempts += 1
             if not attempt.converged:
                 self.counts["failed_attempts"] += 1
@@ -162,8 +163,10 @@ class Stepping:
             stability = self.stability.check(t + step)
             for e in m.effects:
                 e.commit(m)
-            # no secant predictor across a jump to another branch
-            self.previous = None if stability["branch_switched"] else (t, x_saved.copy())
+            # no predictor across a jump to another branch
+            switched = stability["branch_switched"]
+            self.older = None if switched else self.previous
+            self.previous = None if switched else (t, x_saved.copy())
             if self.first_increment is None:
                 self.first_increment = (step, m.x - x_saved)
             t += step

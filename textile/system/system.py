@@ -64,6 +64,9 @@ class System:
         #: State.du); set by the solver
         self.newton = "standard"
         self._linearization_point: PETSc.Vec | None = None
+        #: a predicted state's extrapolated stress for the next tangent:
+        #: [(weight, difference of states)] (set_predicted_stress)
+        self._predicted_stress: list | None = None
         self.last_tangent_update = 0.0
         #: tangents assembled since the solver last ran the effects'
         #: prepare or update (State.tangent_index; see start_newton)
@@ -422,6 +425,28 @@ class System:
         if self._linearization_point is None:
             self._linearization_point = x.duplicate()
         x.copy(self._linearization_point)
+        self._drop_predicted_stress()
+
+    def _drop_predicted_stress(self) -> None:
+        for _, d in self._predicted_stress or []:
+            d.destroy()
+        self._predicted_stress = None
+
+    def set_predicted_stress(self, updates: list) -> None:
+        """The next MIP tangent, at a predicted state x, takes its stress
+        from the strain E(x) - 1/2 sum_k c_k h(d_k)^T h(d_k) instead of the
+        linear extrapolation from the last linearization point; ``updates``
+        = [(c_k, d_k)], d_k differences of states (PETSc vectors, kept until
+        that tangent, copied). The predictor sets it (contact_loop.py): with
+        the weights of an extrapolation of converged states, it is their
+        strains extrapolated alike, as their stresses are."""
+        self._drop_predicted_stress()
+        kept = []
+        for c, d in updates:
+            v = self.x.duplicate()  # ghosted, as the state
+            d.copy(v)
+            kept.append((float(c), v))
+        self._predicted_stress = kept
 
     def jacobian(self, snes, x: PETSc.Vec, J: PETSc.Mat, P: PETSc.Mat) -> None:
         """SNES Jacobian: sum of the effects' tangents, identity on constrained rows."""
@@ -432,13 +457,26 @@ class System:
             if self._linearization_point is None:
                 self.set_linearization_point(x)
             ref = self._linearization_point
-            ref.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
-            for f, a in zip(self.layout.fields, self.layout.get_local(ref)):
-                st.du[f.name] = st.u[f.name] - a
+            if self._predicted_stress is not None:
+                weights = np.array([c for c, _ in self._predicted_stress])
+                parts = []
+                for _, d in self._predicted_stress:
+                    d.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+                    parts.append(self.layout.get_local(d))
+                for i, f in enumerate(self.layout.fields):
+                    st.du[f.name] = np.concatenate([p[i] for p in parts])
+                    st.du_weights[f.name] = weights
+                size = sum(abs(c) * sum(float(np.dot(a, a)) for a in p)
+                           for c, p in zip(weights, parts))
+                self._drop_predicted_stress()
+            else:
+                ref.ghostUpdate(addv=PETSc.InsertMode.INSERT, mode=PETSc.ScatterMode.FORWARD)
+                for f, a in zip(self.layout.fields, self.layout.get_local(ref)):
+                    st.du[f.name] = st.u[f.name] - a
+                size = sum(float(np.dot(d, d)) for d in st.du.values())
             #: size of the update the last MIP tangent extrapolated over (its
             #: geometric stiffness is exact only when this is small)
-            self.last_tangent_update = float(np.sqrt(self.comm.allreduce(
-                sum(float(np.dot(d, d)) for d in st.du.values()))))
+            self.last_tangent_update = float(np.sqrt(self.comm.allreduce(size)))
             x.copy(ref)
         self._assemble_tangent(st, P, J)
         self._floor_tangent = P
