@@ -39,10 +39,12 @@ def test_rollup_closes_the_ring(nu):
     c = np.array([0.0, L / (2 * np.pi), 0.0])
     r = np.linalg.norm(model.centreline(fib) - c, axis=1)
     assert np.allclose(r, L / (2 * np.pi), rtol=3e-4, atol=0)  # measured 9.1e-5: 3x
-    # Newton regression: 20 steps of 18 degrees; measured 5 iterations a
-    # step (MIP Newton), 1.5x allowed as the stability suite's guard does
+    # Newton regression: 20 steps of 18 degrees; measured 4 iterations a
+    # step, 5 the first (MIP Newton, steps started on the parabola; 5 a step
+    # from the last converged state), 1.5x allowed as the stability suite's
+    # guard does
     its = [h.newton_iterations for h in solver.history]
-    assert len(its) == 20 and max(its) <= 7
+    assert len(its) == 20 and max(its[1:]) <= 6
 
 
 def test_rollup_without_poisson_cure_is_too_stiff():

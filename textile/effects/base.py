@@ -101,6 +101,11 @@ class Effect:
     #: effect's schedules (dead loads): the model then computes the force
     #: scale of the convergence test again only when those values change.
     external_from_schedules: bool = False
+    #: False if the effect's forces switch along a load path (contacts
+    #: opening, closing and sliding): the "auto" predictor then chooses each
+    #: step between the secant's start and the plain one instead of
+    #: extrapolating the path (SolverOptions.predictor).
+    smooth_path: bool = True
 
     def add_fields(self, model) -> list:
         """New fields this effect brings (e.g. the matrix's function space)."""

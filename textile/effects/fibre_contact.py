@@ -260,6 +260,7 @@ class FibreContact(Effect):
 
     fields = ("beam",)
     dynamic_sparsity = True
+    smooth_path = False
 
     @property
     def symmetric_tangent(self) -> bool:

@@ -88,21 +88,26 @@ class ContactLoop:
         m.set_linearization_point()
         t_n = m.load_factor
         m.load_factor = t
-        order = 2 if o.predictor == "parabola" else 1
+        # "auto" with the MIP Newton on a scene whose every effect is smooth
+        # along the path: the parabola (its stress extrapolated too)
+        predictor = o.predictor
+        if predictor == "auto" and m.newton == "mip" and all(e.smooth_path for e in m.effects):
+            predictor = "parabola"
+        order = 2 if predictor == "parabola" else 1
         earlier = [p for p in (previous, older)[:order] if p is not None]
         # only states before the current one, in order (none after a gap)
         for k, p in enumerate(earlier):
             if p[0] >= (t_n if k == 0 else earlier[k - 1][0]):
                 earlier = earlier[:k]
                 break
-        if predict and o.predictor != "none" and earlier:
+        if predict and predictor != "none" and earlier:
             plain = m.x.copy()
             # the stress extrapolated alike: for a chosen predictor (auto's
             # first tangent is linearized from the converged state)
             stress = self.extrapolate([(t_n, plain)] + earlier, t,
-                                      o.predictor != "auto" and m.newton == "mip")
+                                      predictor != "auto" and m.newton == "mip")
             norm = self.newton.residual_norm
-            if o.predictor == "auto":
+            if predictor == "auto":
                 # the state the last step chose is evaluated last: when it
                 # wins again, its residual is Newton's first (kept by
                 # Newton.residual_norm, not evaluated again)

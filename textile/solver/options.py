@@ -100,14 +100,17 @@ class SolverOptions(Options):
         suit smooth paths (large rotations: a roll-up needs 4 iterations a
         step with the parabola) and overshoot contacts coming on. "none":
         from the last converged state with the new loads and prescribed
-        values. "auto" (default): evaluates the secant's start and the
-        plain one and keeps the one with the smaller residual (two residual
-        evaluations a step), its first tangent linearized from the
-        converged state: a start chosen step by step may sit where the path
-        turns (contacts sliding, a twisted pair's snap), where the stress's
-        trend misleads (measured: the twisted pair then stops). Iteration
-        counts: benchmarks/README.md, "Solver options" and "A predictor
-        that extrapolates the stress too".
+        values. "auto" (default): the parabola with the MIP Newton when
+        every effect of the scene is smooth along the path
+        (Effect.smooth_path: no contact); otherwise it evaluates the
+        secant's start and the plain one and keeps the one with the smaller
+        residual (two residual evaluations a step), its first tangent
+        linearized from the converged state: a start chosen step by step
+        may sit where the path turns (contacts sliding, a twisted pair's
+        snap), where the stress's trend misleads (measured: the twisted
+        pair then stops). Iteration counts:
+        benchmarks/README.md, "Solver options" and "A predictor that
+        extrapolates the stress too".
     linear_solver:
         "mumps" (default), "superlu_dist" or "petsc" (serial).
     factorization:

@@ -178,7 +178,8 @@ void BeamAssembler::assemble_matrix(Mat A, std::span<const double> u,
                                     std::span<const double> du,
                                     std::span<const double> du_weights) const
 {
-  const std::size_t num_du = du.size() / std::max<std::size_t>(_X.size(), 1);
+  // (a rank without nodes has k empty updates: their count is the weights')
+  const std::size_t num_du = _X.empty() ? du_weights.size() : du.size() / _X.size();
   if (u.size() != _X.size() or dofs.size() != _X.size() or du.size() != num_du * _X.size()
       or num_du > beam::max_mip_updates
       or (!du_weights.empty() and du_weights.size() != num_du))
