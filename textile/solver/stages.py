@@ -118,17 +118,18 @@ class Stages(Stepping):
                     if within and self.older is not None else -1.0,
                     negative_eigenvalues=self.stability.negative)
 
+    def _kept(self, earlier) -> PETSc.Vec | None:
+        """An earlier state's vector while its stage goes on, else None."""
+        within = self.stage_started and self.model.load_factor < 1.0 - 1e-14
+        return earlier[1] if within and earlier is not None else None
+
     def previous_state(self) -> PETSc.Vec | None:
         """The predictor's earlier state (see position), or None."""
-        m = self.model
-        within = self.stage_started and m.load_factor < 1.0 - 1e-14
-        return self.previous[1] if within and self.previous is not None else None
+        return self._kept(self.previous)
 
     def older_state(self) -> PETSc.Vec | None:
         """The predictor's state before that (see position), or None."""
-        m = self.model
-        within = self.stage_started and m.load_factor < 1.0 - 1e-14
-        return self.older[1] if within and self.older is not None else None
+        return self._kept(self.older)
 
     def resume(self, position: dict, previous: PETSc.Vec | None,
                following: list[np.ndarray], matrix_changed: bool = False,
