@@ -22,13 +22,15 @@ wall time (benchmarks/README.md, "Bundles").
         [--yarns 4 --pattern "twill 2/2" --drag 0.1 --lifting-drag 0.1]
         [--fibres 19 --free-length 2 --pull fibre]
         [--fibres 28 --free-length 2 --pull fibre --amplitude 0.45 --drag 0.1
-         --viscous-fading]
+         --viscous-fading] [--spacing 1.5 --amplitude 0.45]
+        [--solver newton=standard line_search=l2]
     .venv/bin/python benchmarks/weave_bundles.py [--fibres 3 7] [--spacing 2]
         [--easy 4 12] [--drag 0 1] [--relax]
 """
 from __future__ import annotations
 
 import argparse
+import ast
 import fcntl
 import itertools
 import json
@@ -68,7 +70,7 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
     stages = weaving.stages()
     if method == "lifting":
         t0 = time.perf_counter()
-        solver = textile.Solver(weaving.model, dict(verbose=verbose))
+        solver = textile.Solver(weaving.model, dict(verbose=verbose, **SOLVER))
         error = ""
         try:
             solver.run(stages)
@@ -78,7 +80,8 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
                     dict(fibres=fibres, spacing=spacing, method=method, free_length=free_length,
                          drag=drag, twist=twist, newton_per_pass=weaving.newton_per_pass,
                          lifting_drag=lifting_drag, pattern=pattern, yarns=num, pull=pull,
-                         packing=packing, amplitude=amplitude, viscous_fading=viscous_fading))
+                         packing=packing, amplitude=amplitude, viscous_fading=viscous_fading,
+                         **SOLVER))
     stages[0].solver.update(easy_iterations=easy)
     if make_up:
         stages[1].effects[weaving.contact]["make_up_penetrations"] = True
@@ -87,7 +90,7 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
         weaving.model.add_effect(effect)
         stages[0].effects[effect] = dict(coefficient=lambda s: drag * (1 - s) ** 2)
         stages[1].effects[effect] = dict(coefficient=0.0)
-    solver = textile.Solver(weaving.model, dict(verbose=verbose))
+    solver = textile.Solver(weaving.model, dict(verbose=verbose, **SOLVER))
     t0 = time.perf_counter()
     error = ""
     try:
@@ -154,7 +157,15 @@ def main():
     p.add_argument("--free-length", type=float, default=None,
                    help="yarn tails beyond the outer crossings, in spacings (default 0.5, "
                         "1.0 for lifting)")
+    p.add_argument("--solver", nargs="+", default=[], metavar="NAME=VALUE",
+                   help="SolverOptions for every stage, e.g. newton=standard line_search=l2")
     args = p.parse_args()
+    for item in args.solver:
+        name, _, value = item.partition("=")
+        try:
+            SOLVER[name] = ast.literal_eval(value)
+        except (ValueError, SyntaxError):
+            SOLVER[name] = value     # a string: newton=standard
     free = args.free_length or (1.0 if args.method == "lifting" else 0.5)
     rows = []
     drags = args.drag or ([0.0, 1.0] if args.method == "ordered" else [0.0])
@@ -177,6 +188,10 @@ def main():
               f"{row['wall_seconds']:.1f} s{'; ' + row['error'][:120] if row['error'] else ''}",
               flush=True)
     record(rows)
+
+
+#: solver options given on the command line (--solver)
+SOLVER: dict = {}
 
 
 def record(rows: list[dict]) -> None:
