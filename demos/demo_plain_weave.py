@@ -60,9 +60,9 @@ Run: ``mpirun -n 2 python3 demos/demo_plain_weave.py [--output DIR]
 [--fibres N] [--packing P] [--elements N] [--spacing S] [--amplitude A]``
 (about 30 s on 2 ranks, 40 s on one; a few seconds with ``--fibres 1
 --spacing 6``). Bundles 1.5 widths apart weave with the heddles lifting
-less, ``--spacing 1.5 --amplitude 0.4`` (at the default 0.55 the lifted
-yarns, steeper, fold elements and the lifting stage stops at 0.955;
-benchmarks/README.md, "The 7-fibre weave 1.5 widths apart").
+less, ``--spacing 1.5 --amplitude 0.45`` (at the default 0.55 the lifted
+yarns, steeper, fold elements and the lifting stage stops at 0.95;
+benchmarks/README.md, "A line contact's point past its patch").
 """
 import argparse
 import os

@@ -151,11 +151,16 @@ void set_patch(const Centrelines& c, int f, double s, bool two, Particle& p,
     p.patch_position = element[0] == c.fibre_offsets[f] + std::int64_t(c.order) * node ? 1 : 0;
     for (int a = 0; a <= 2 * c.order; ++a)
       nodes[a] = c.fibre_offsets[f] + std::int64_t(c.order) * (node - 1) + a;
-    return;
   }
-  p.patch_elements = 1;
-  p.patch_position = 0;
-  std::copy(element.begin(), element.begin() + c.order + 1, nodes.begin());
+  else
+  {
+    p.patch_elements = 1;
+    p.patch_position = 0;
+    std::copy(element.begin(), element.begin() + c.order + 1, nodes.begin());
+  }
+  p.fibre_end_below = nodes[0] == c.fibre_offsets[f];
+  p.fibre_end_above = nodes[p.patch_nodes() - 1]
+                      == c.fibre_offsets[f] + std::int64_t(c.order) * c.num_elements(f);
 }
 } // namespace
 

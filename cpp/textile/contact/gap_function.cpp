@@ -226,10 +226,12 @@ GapFunction::GapFunction(const Particle& pi, const Particle& pj, const Eigen::Ve
     const double along = motion.tangent_i.dot(motion.tangent_j) >= 0 ? 1.0 : -1.0;
     mo.B = Eigen::RowVector2d(motion.tangent_i.norm(), along * motion.tangent_j.norm());
     mo.w0 = _w;
+    // a point may pass its patch's end: the line goes on straight (C1,
+    // where a stop kinks the gap's gradient), the next pass puts it on its
+    // own element; not past its fibre's end, where both stop
     const bool found = solve_points(mo, pi, pj, _w, xi, xj, N, 0.0);
-    if (!found or outside(pi, _w[0]) or outside(pj, _w[1]))
+    if (!found or pi.past_fibre_end(_w[0]) or pj.past_fibre_end(_w[1]))
     {
-      // (a point leaving its patch: both stop, the pass moves them)
       _w = found ? std::array<double, 2>{std::clamp(_w[0], pi.patch_min(), pi.patch_max()),
                                          std::clamp(_w[1], pj.patch_min(), pj.patch_max())}
                  : mo.w0;

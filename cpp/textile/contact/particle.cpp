@@ -23,6 +23,15 @@ PatchShape::PatchShape(const Particle& p, double xi)
 {
   if (p.num_nodes < 2 or p.num_nodes > 3 or p.patch_elements < 1 or p.patch_elements > 2)
     throw std::invalid_argument("PatchShape: elements of 2 or 3 nodes, patches of 1 or 2");
+  // past an end: the straight line along the end's tangent (C1 there)
+  const double end = std::clamp(xi, p.patch_min(), p.patch_max());
+  if (xi != end)
+  {
+    *this = PatchShape(p, end);
+    for (int k = 0; k < p.patch_nodes(); ++k)
+      n[k] += (xi - end) * dn[k], ddn[k] = 0.0;
+    return;
+  }
   std::array<double, 3> a, da, dda;
   if (p.patch_elements == 1)
   {

@@ -47,6 +47,10 @@ struct Particle
   double radius = 0; ///< section radius R (length)
   int patch_elements = 1; ///< 1, or 2 (the particle's element and a neighbour)
   int patch_position = 0; ///< which of the patch's elements holds the particle (0, 1)
+  /// Is the patch's first (last) node its fibre's end? Past an interior
+  /// node the patch's polynomials stand for the next element; past a
+  /// fibre's end there is no fibre.
+  bool fibre_end_below = false, fibre_end_above = false;
 
   /// Nodes of the patch (the element's first).
   int patch_nodes() const { return (num_nodes - 1) * patch_elements + 1; }
@@ -57,10 +61,18 @@ struct Particle
   /// Bounds of the patch coordinate.
   double patch_min() const { return -1.0; }
   double patch_max() const { return 2.0 * patch_elements - 1.0; }
+  /// Is patch coordinate xi beyond the fibre's end?
+  bool past_fibre_end(double xi) const
+  {
+    return (fibre_end_below and xi < patch_min()) or (fibre_end_above and xi > patch_max());
+  }
 };
 
 /// Shape functions of the patch's centre line at patch coordinate xi, and
 /// their first and second derivatives in xi (patch_nodes() values each).
+/// Past the patch's ends the line goes on straight along the end's tangent
+/// (C1 across the end: a point moving within Newton may pass it,
+/// gap_function.h).
 struct PatchShape
 {
   std::array<double, 5> n{}, dn{}, ddn{};
