@@ -46,11 +46,12 @@
 //   held one until the next pass makes the zone a line contact.
 // A following point that leaves its patch goes on along the patch's line
 // continued straight past its end (PatchShape, C1 there), up to the next
-// pass, which puts it on its own element: a stop there would kink the gap's gradient (the force
-// turned by several degrees at the end node, and Newton cycled between
-// iterates on either side of the kink, benchmarks/README.md, "A line
-// contact's point past its patch"). Past its fibre's end (Particle::
-// past_fibre_end) there is no fibre: both points stop, as held.
+// pass, which puts it on its own element. A stop there kinked the gap's
+// gradient: the force turned by several degrees at the end node, and
+// Newton cycled between iterates on either side of the kink
+// (benchmarks/README.md, "A line contact's point past its patch"). Past
+// its fibre's end (Particle::past_fibre_end) there is no fibre: both
+// points stop, as held.
 // In all kinds the supports are evaluated along N (their dependence on the
 // direction is of the order of the sections' ovality) and N is the
 // separation's direction (separation < 0: the centre lines have passed

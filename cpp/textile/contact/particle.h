@@ -48,8 +48,8 @@ struct Particle
   int patch_elements = 1; ///< 1, or 2 (the particle's element and a neighbour)
   int patch_position = 0; ///< which of the patch's elements holds the particle (0, 1)
   /// Is the patch's first (last) node its fibre's end? Past an interior
-  /// node the patch's polynomials stand for the next element; past a
-  /// fibre's end there is no fibre.
+  /// node the patch's line continued straight stands for the next element
+  /// (PatchShape); past a fibre's end there is no fibre.
   bool fibre_end_below = false, fibre_end_above = false;
 
   /// Nodes of the patch (the element's first).
