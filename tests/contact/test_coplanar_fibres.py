@@ -44,7 +44,7 @@ def real_penetration(d):
 def test_fan_reads_no_false_penetration(angle):
     """No element is deeper than the roots' real penetration, and the fibre
     pushed away at its root stays in the plane: before the fix (angles above
-    parallel_angle = 10 degrees) every element read -2R along z and pushed B
+    parallel_angle, then 10 degrees) every element read -2R along z and pushed B
     out of the plane."""
     A, B = fan_pair(angle)
     model = textile.Model([A, B], comm=MPI.COMM_SELF)

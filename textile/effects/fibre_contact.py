@@ -92,7 +92,12 @@ class ContactOptions(Options):
     penalty_range:
         (low, high) bounds of an adapted penalty, relative to the initial one.
     parallel_angle:
-        Angle (degrees) below which two fibres are treated as parallel.
+        Angle (degrees) below which two fibres are treated as parallel
+        (line contacts; above it, point crossings). 20: the fibres of a
+        bundle, rearranged in a weave, cross each other at 10-20 degrees, and
+        as point crossings their relocation from pass to pass ran away into
+        deeper overlaps (a 3 x 3 bundle weave stopped at 10 degrees,
+        tests/weave/test_three_by_three_bundles.py).
     friction:
         Coulomb coefficient mu between fibres (of different yarns when the
         contact knows the fibres' yarns, FibreContact ``fibre_yarn``; 0:
@@ -147,7 +152,7 @@ class ContactOptions(Options):
     penalty_band: tuple = (0.5, 2.0)
     max_penalty_change: float = 4.0
     penalty_range: tuple = (1e-3, 1e3)
-    parallel_angle: float = 10.0
+    parallel_angle: float = 20.0
     friction: float = 0.0
     yarn_friction: float | None = None
     reversible_slip: float = 0.01
