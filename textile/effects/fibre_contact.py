@@ -97,7 +97,7 @@ class ContactOptions(Options):
         bundle, rearranged in a weave, cross each other at 10-20 degrees, and
         as point crossings their relocation from pass to pass ran away into
         deeper overlaps (a 3 x 3 bundle weave stopped at 10 degrees,
-        tests/weave/test_three_by_three_bundles.py).
+        tests/weave/test_close_bundles.py).
     friction:
         Coulomb coefficient mu between fibres (of different yarns when the
         contact knows the fibres' yarns, FibreContact ``fibre_yarn``; 0:
