@@ -84,7 +84,7 @@ parser.add_argument("--spacing", type=float, default=2.0,
                     help="yarn spacing, in yarn widths")
 parser.add_argument("--amplitude", type=float, default=None,
                     help="bundles: the heddles' lift, in yarn heights (Weaving's amplitude, "
-                         "default 0.55; 0.4 for 1.5 widths apart)")
+                         "default 0.55; 0.45 for 1.5 widths apart)")
 args = parser.parse_args()
 
 # Fibres: polyester monofilaments, 0.2 mm diameter (E = 5 GPa, nu = 0.35).

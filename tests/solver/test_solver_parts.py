@@ -6,6 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from mpi4py import MPI
+from petsc4py import PETSc
 
 import textile
 from textile.solver import (DIVERGED_EFFECTS_UNSETTLED, DIVERGED_NEWTON_CYCLE,  # noqa: F401
@@ -48,12 +49,8 @@ def one_step_with_solver():
     return solver, model
 
 
-def test_one_newton_solve_alone():
-    """Newton alone, from the reference state at load factor 1, converges
-    as the Solver's one step does: same iterations, residuals, state."""
-    solver, reference = one_step_with_solver()
+def _newton_at_full_load(options):
     fib, model = cantilever()
-    options = SolverOptions(**QUIET)
     newton = set_up(model, options)
     model.domain_error = None
     for e in model.effects:
@@ -62,6 +59,14 @@ def test_one_newton_solve_alone():
     model.set_linearization_point()
     model.load_factor = 1.0
     model.apply_constraints(model.x)
+    return model, newton
+
+
+def test_one_newton_solve_alone():
+    """Newton alone, from the reference state at load factor 1, converges
+    as the Solver's one step does: same iterations, residuals, state."""
+    solver, reference = one_step_with_solver()
+    model, newton = _newton_at_full_load(SolverOptions(**QUIET))
     result = newton.solve(model.x)
     step = solver.history[0]
     assert result.reason > 0, reason_name(result.reason)
@@ -71,6 +76,37 @@ def test_one_newton_solve_alone():
     assert newton.counts["newton_iterations"] == result.iterations
     assert np.array_equal(model.x.getArray(), reference.x.getArray())
     assert newton.prefix.startswith("textile") and newton.prefix != solver.prefix
+
+
+@pytest.mark.parametrize("line_search", ["l2", "none"])
+def test_a_cycling_solve_goes_on_with_a_line_search(monkeypatch, line_search):
+    """SolverOptions.cycle_line_search: a solve taken for cycling after its
+    second iteration goes on from that iterate with the l2 line search (and
+    converges: the cantilever has no cycle), once, then the line search is
+    the plain one again; with "none" the solve fails at once."""
+    import textile.solver.newton as newton_module
+    calls = []
+
+    def cycles_once(norms):
+        calls.append(len(norms))
+        return len(calls) == 3
+    monkeypatch.setattr(newton_module, "cycling", cycles_once)
+    model, newton = _newton_at_full_load(SolverOptions(cycle_line_search=line_search, **QUIET))
+    result = newton.solve(model.x)
+    kind = PETSc.Options().getString(newton.prefix + "snes_linesearch_type")
+    assert kind == "basic"
+    if line_search == "none":
+        assert result.reason == DIVERGED_NEWTON_CYCLE and result.iterations == 2
+        assert newton.counts["cycle_line_searches"] == 0
+        return
+    assert result.reason > 0, reason_name(result.reason)
+    assert newton.counts["cycle_line_searches"] == 1
+    assert newton.counts["newton_solves"] == 2
+    # the two solves' iterations together; the cantilever's count, give or
+    # take the line search's shorter steps
+    assert newton.counts["newton_iterations"] == result.iterations
+    assert CANTILEVER_ITERATIONS - 1 <= result.iterations <= CANTILEVER_ITERATIONS + 3
+    assert len(result.residual_norms) == result.iterations + 2  # each solve's initial norm
 
 
 def test_newton_iterations_of_the_cantilever():

@@ -92,8 +92,9 @@ class Weaving:
         the middle, where the yarns slope, may still overlap a little, and
         the settling stage makes that up progressively). Yarns closer
         than 2 widths slope more for the same lift: 7-fibre bundles 1.5
-        widths apart weave with 0.4 and stop in the lifting stage with
-        0.55 (benchmarks/README.md, "The 7-fibre weave 1.5 widths apart").
+        widths apart weave with 0.45 and stop in the lifting stage with
+        0.55 (benchmarks/README.md, "A line contact's point past its
+        patch").
     drag:
         Lifting: the coefficient of a
         :class:`~textile.effects.ViscousDrag` (pseudo-time) through the

@@ -19,6 +19,7 @@ from petsc4py import PETSc
 
 from .convergence import (CYCLE_ITERATIONS, CYCLE_PERIOD, CYCLE_TOLERANCE,  # noqa: F401
                           GroupTolerances, cycling)
+from .kept_residual import KeptResidual
 from .linear_solver import LinearSolver
 from .options import DIVERGED_NEWTON_CYCLE, SolverOptions, say
 
@@ -39,10 +40,11 @@ def new_counts() -> dict:
     """The counters a solver keeps itself (the rest: PETSc's event log)."""
     return dict(newton_solves=0, newton_iterations=0, failed_attempts=0,
                 accepted_steps=0, residual_evaluations=0, jacobian_evaluations=0,
-                linear_solve_retries=0, matrix_rebuilds_in_newton=0, eigen_solves=0,
-                eigen_solve_seconds=0.0, zero_motion_searches=0, zero_motion_seconds=0.0,
-                stability_checks=0, stability_check_seconds=0.0, branch_switches=0,
-                branch_attempts=0, branch_switch_seconds=0.0, factorizations_at_solution=0)
+                linear_solve_retries=0, matrix_rebuilds_in_newton=0, cycle_line_searches=0,
+                eigen_solves=0, eigen_solve_seconds=0.0, zero_motion_searches=0,
+                zero_motion_seconds=0.0, stability_checks=0, stability_check_seconds=0.0,
+                branch_switches=0, branch_attempts=0, branch_switch_seconds=0.0,
+                factorizations_at_solution=0)
 
 
 @dataclass
@@ -89,7 +91,7 @@ class Newton:
         #: Newton iterations allowed in the current solve (0: max_it; see solve)
         self.cap = 0
         #: the last residual evaluation, when residual_norm made it (see
-        #: _KeptResidual); any other evaluation forgets it
+        #: KeptResidual); any other evaluation forgets it
         self._kept_residual = None
         self.snes = self._create_snes()  # starts PETSc's event log
 
@@ -210,22 +212,35 @@ class Newton:
         result = NewtonResult()
         capped = 0 < cap < o.max_it
         budget = cap if capped else o.max_it
-        spent = 0  # by SNES solves stopped for a matrix rebuild
+        spent = 0  # by SNES solves stopped for a matrix rebuild or a cycle
+        searching = False  # SolverOptions.cycle_line_search: after a cycle
         for retry in range(o.max_it):
             self.counts["newton_solves"] += 1
             self.cycled = self.outgrown = False
             self.cap = budget - spent if capped or spent else 0  # read by _converged
-            self.snes.solve(None, x)
+            try:
+                self.snes.solve(None, x)
+            finally:
+                if searching:
+                    self._line_search(o.line_search)
             result.reason = self.snes.getConvergedReason()
-            if self.cycled:
-                result.reason = DIVERGED_NEWTON_CYCLE
-                result.message = ("the residual repeats itself (contact or "
-                                  "stick-slip switches flipping, or stuck)")
             its = self.snes.getIterationNumber()
             self.counts["newton_iterations"] += its
             result.iterations += its
             result.residual_norms += [float(r) for r in
                                       self.snes.getConvergenceHistory()[0][: its + 1]]
+            if self.cycled and o.cycle_line_search != "none" and not searching \
+                    and spent + its < budget:
+                # full steps land where they started: on from this iterate
+                # with a line search along the same Newton directions
+                spent, searching = spent + its, True
+                self.counts["cycle_line_searches"] += 1
+                self._line_search(o.cycle_line_search)
+                continue
+            if self.cycled:
+                result.reason = DIVERGED_NEWTON_CYCLE
+                result.message = ("the residual repeats itself (contact or "
+                                  "stick-slip switches flipping, or stuck)")
             if self.outgrown and spent + its < budget:
                 spent += its
                 self.counts["matrix_rebuilds_in_newton"] += 1
@@ -250,6 +265,10 @@ class Newton:
             result.reason == PETSc.SNES.ConvergedReason.DIVERGED_MAX_IT
         return result
 
+    def _line_search(self, kind: str) -> None:
+        PETSc.Options()[self.prefix + "snes_linesearch_type"] = kind
+        self.snes.setFromOptions()
+
     def residual_norm(self, x: PETSc.Vec) -> float:
         """Norm of the residual at x with the constraints of the current
         load factor applied (inf outside the domain); x is not changed."""
@@ -263,30 +282,7 @@ class Newton:
         norm = r.norm()
         if clean and np.isfinite(norm):
             # SNES's first residual is this one when the step starts here
-            self._kept_residual = _KeptResidual(m, y, r)
+            self._kept_residual = KeptResidual(m, y, r)
         y.destroy()
         r.destroy()
         return norm if np.isfinite(norm) else np.inf
-
-
-class _KeptResidual:
-    """A residual evaluation made by :meth:`Newton.residual_norm` (the
-    predictor's choice): the iterate, the residual and what the model
-    recorded with it (group norms, force scale, support reactions), for
-    SNES's first evaluation of the step when it is at the same iterate,
-    load factor and constraints. Only the last evaluation is kept: the
-    effects' state is then that of this iterate, as after a new
-    evaluation."""
-
-    def __init__(self, m, y: PETSc.Vec, r: PETSc.Vec):
-        self.x = y.getArray(readonly=True).copy()
-        self.r = r.getArray(readonly=True).copy()
-        self.recorded = m.residual_record()
-
-    def matches(self, m, x: PETSc.Vec) -> bool:
-        return (m.domain_error is None and m.residual_record_current(self.recorded)
-                and np.array_equal(x.getArray(readonly=True), self.x))
-
-    def restore(self, m, b: PETSc.Vec) -> None:
-        b.getArray()[:] = self.r
-        m.restore_residual_record(self.recorded)

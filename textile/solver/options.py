@@ -69,6 +69,11 @@ class SolverOptions(Options):
         norm mixes forces on positions and on section vectors, which misleads
         norm-decrease searches such as "bt" on these beams; failed steps are
         cut instead.
+    cycle_line_search:
+        A solve whose residual cycles under full steps goes on once from
+        there with this SNES line search ("l2", default; "bt", "cp"), within
+        max_it; "none": it fails at once and the step is cut (why:
+        benchmarks/README.md, "A line search after a Newton cycle").
     max_updates:
         Newton solves per step while effects update what Newton holds fixed
         (contact elements, normals, penalties); a step still changing after
@@ -177,6 +182,7 @@ class SolverOptions(Options):
     stol: float = 1e-10
     max_it: int = 25
     line_search: str = "basic"
+    cycle_line_search: str = "l2"
     newton: str = "mip"
     predictor: str = "auto"
     max_updates: int = 20
@@ -208,7 +214,8 @@ class SolverOptions(Options):
                        predictor=("auto", "secant", "parabola", "none"),
                        linear_solver=("mumps", "superlu_dist", "petsc"),
                        factorization=("auto", "lu", "cholesky"),
-                       stability_check=("auto", "off"), scaling=("diagonal", "mumps"))
+                       stability_check=("auto", "off"), scaling=("diagonal", "mumps"),
+                       cycle_line_search=("none", "l2", "bt", "cp"))
         for name, allowed in choices.items():
             if getattr(self, name) not in allowed:
                 raise ValueError(f"SolverOptions.{name} must be one of {allowed}, "
