@@ -66,7 +66,7 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
                       **(dict(drag=drag, lifting_drag=lifting_drag, viscous_fading=viscous_fading,
                               newton_per_pass=newton_per_pass, pull=pull)
                          if method == "lifting" else {}),
-                      **({} if amplitude is None else dict(amplitude=amplitude)))
+                      **({} if amplitude is None else dict(amplitude=amplitude)), **WEAVING)
     stages = weaving.stages()
     if method == "lifting":
         t0 = time.perf_counter()
@@ -81,7 +81,7 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
                          drag=drag, twist=twist, newton_per_pass=weaving.newton_per_pass,
                          lifting_drag=lifting_drag, pattern=pattern, yarns=num, pull=pull,
                          packing=packing, amplitude=amplitude, viscous_fading=viscous_fading,
-                         **SOLVER))
+                         **SOLVER, **WEAVING))
     stages[0].solver.update(easy_iterations=easy)
     if make_up:
         stages[1].effects[weaving.contact]["make_up_penetrations"] = True
@@ -159,13 +159,16 @@ def main():
                         "1.0 for lifting)")
     p.add_argument("--solver", nargs="+", default=[], metavar="NAME=VALUE",
                    help="SolverOptions for every stage, e.g. newton=standard line_search=l2")
+    p.add_argument("--weaving", nargs="+", default=[], metavar="NAME=VALUE",
+                   help="other Weaving arguments, e.g. settling_steps=8")
     args = p.parse_args()
-    for item in args.solver:
-        name, _, value = item.partition("=")
-        try:
-            SOLVER[name] = ast.literal_eval(value)
-        except (ValueError, SyntaxError):
-            SOLVER[name] = value     # a string: newton=standard
+    for items, options in ((args.solver, SOLVER), (args.weaving, WEAVING)):
+        for item in items:
+            name, _, value = item.partition("=")
+            try:
+                options[name] = ast.literal_eval(value)
+            except (ValueError, SyntaxError):
+                options[name] = value     # a string: newton=standard
     free = args.free_length or (1.0 if args.method == "lifting" else 0.5)
     rows = []
     drags = args.drag or ([0.0, 1.0] if args.method == "ordered" else [0.0])
@@ -190,8 +193,10 @@ def main():
     record(rows)
 
 
-#: solver options given on the command line (--solver)
+#: solver options and other Weaving arguments given on the command line
+#: (--solver, --weaving)
 SOLVER: dict = {}
+WEAVING: dict = {}
 
 
 def record(rows: list[dict]) -> None:

@@ -109,6 +109,19 @@ def test_a_cycling_solve_goes_on_with_a_line_search(monkeypatch, line_search):
     assert len(result.residual_norms) == result.iterations + 2  # each solve's initial norm
 
 
+def test_capped_solves_that_cycle_together_go_on_with_a_line_search(monkeypatch):
+    """Capped solves (newton_per_pass) are too short to show a cycle each:
+    the contact loop tests the attempt's whole residual history, and a
+    solve after a history taken for cycling starts with the line search."""
+    import textile.solver.contact_loop as loop_module
+    monkeypatch.setattr(loop_module, "cycling", lambda norms: len(norms) > 0)
+    fib, model = cantilever()
+    loop = ContactLoop(set_up(model, SolverOptions(newton_per_pass=2, **QUIET)))
+    attempt = loop.step_to(1.0)
+    assert attempt.converged and attempt.updates > 1
+    assert loop.newton.counts["cycle_line_searches"] == attempt.updates - 1
+
+
 def test_newton_iterations_of_the_cantilever():
     """The known count (a change of the Newton solver shows here first)."""
     solver, _ = one_step_with_solver()

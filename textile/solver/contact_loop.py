@@ -14,6 +14,7 @@ import numpy as np
 from petsc4py import PETSc
 
 from .. import _cpp
+from .convergence import cycling
 from .newton import Newton
 from .options import DIVERGED_EFFECTS_UNSETTLED, Attempt
 
@@ -141,7 +142,9 @@ class ContactLoop:
             # first half of the passes; then (effects that do not settle at
             # unconverged states: stick-slip flips) to convergence
             capped = outer <= o.max_updates // 2
-            result = self.newton.solve(m.x, o.newton_per_pass if capped else 0)
+            # capped solves too short to show a cycle may make one together
+            result = self.newton.solve(m.x, o.newton_per_pass if capped else 0,
+                                       search=cycling(attempt.residual_norms))
             attempt.reason = result.reason
             if result.message:
                 attempt.message = result.message

@@ -202,18 +202,24 @@ class Newton:
         self._kept_residual = None
         self.snes.setJacobian(self._jacobian, *self.linear.operators(A))
 
-    def solve(self, x: PETSc.Vec, cap: int = 0) -> NewtonResult:
+    def solve(self, x: PETSc.Vec, cap: int = 0, search: bool = False) -> NewtonResult:
         """Newton from x (changed in place) at the model's load factor; a
         failed linear solve is retried with more MUMPS workspace or, after
         GMRES on a reused or approximate factorization, a fresh one.
         ``cap`` > 0: stop after at most that many iterations (unconverged:
-        ``NewtonResult.capped``; SolverOptions.newton_per_pass)."""
+        ``NewtonResult.capped``; SolverOptions.newton_per_pass). ``search``:
+        with the cycle line search from the start (the solves before this
+        one cycled)."""
         m, o = self.system, self.options
         result = NewtonResult()
         capped = 0 < cap < o.max_it
         budget = cap if capped else o.max_it
         spent = 0  # by SNES solves stopped for a matrix rebuild or a cycle
-        searching = False  # SolverOptions.cycle_line_search: after a cycle
+        # SolverOptions.cycle_line_search: after a cycle
+        searching = search and o.cycle_line_search != "none"
+        if searching:
+            self.counts["cycle_line_searches"] += 1
+            self._line_search(o.cycle_line_search)
         for retry in range(o.max_it):
             self.counts["newton_solves"] += 1
             self.cycled = self.outgrown = False

@@ -72,7 +72,8 @@ class SolverOptions(Options):
     cycle_line_search:
         A solve whose residual cycles under full steps goes on once from
         there with this SNES line search ("l2", default; "bt", "cp"), within
-        max_it; "none": it fails at once and the step is cut (why:
+        max_it (a step's capped solves whose residuals cycle together: the
+        next starts with it); "none": a cycle fails at once (why:
         benchmarks/README.md, "A line search after a Newton cycle").
     max_updates:
         Newton solves per step while effects update what Newton holds fixed
