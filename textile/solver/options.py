@@ -70,11 +70,10 @@ class SolverOptions(Options):
         norm-decrease searches such as "bt" on these beams; failed steps are
         cut instead.
     cycle_line_search:
-        A solve whose residual cycles under full steps goes on once from
-        there with this SNES line search ("l2", default; "bt", "cp"), within
-        max_it (a step's capped solves whose residuals cycle together: the
-        next starts with it); "none": a cycle fails at once (why:
-        benchmarks/README.md, "A line search after a Newton cycle").
+        A solve whose residual cycles under full steps (or a step's capped
+        solves, together) goes on once with this SNES line search ("l2",
+        default; "bt", "cp"), within max_it; "none": a cycle fails at once
+        (benchmarks/README.md, "A line search after a Newton cycle").
     max_updates:
         Newton solves per step while effects update what Newton holds fixed
         (contact elements, normals, penalties); a step still changing after
