@@ -6,9 +6,11 @@
 // is preallocated (assembly/sparsity_pattern.h) for the
 // couplings recorded here; when a detection pass brings an element near
 // contact (its gap below a margin) on a pair of fibre elements not
-// recorded, the matrix must be rebuilt. Couplings are kept once recorded:
-// a contact that opens and closes again, or flickers between two
-// neighbouring element pairs, does not rebuild the matrix each time.
+// recorded, the matrix must be rebuilt. Couplings are kept once recorded
+// until the contact effect starts a fresh record at a converged state
+// (FibreContact.commit): a contact that opens and closes again within a
+// step, or flickers between two neighbouring element pairs, does not
+// rebuild the matrix each time.
 #pragma once
 
 #include "contact_set.h"
