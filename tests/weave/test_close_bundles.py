@@ -15,38 +15,8 @@ bundles each:
   after pass into deeper overlaps (0.07 R -> 0.31 -> 0.66 -> 2 R) until an
   element folded. At 20 degrees they are line contacts and it weaves.
 
-Each: every crossing in pattern order, penetration <= 0.1 R (the issue's
-bound), every step converged, the crimp of the measured run within 2%
-(the spread of the 2 x 2 weave's crimp over settling schedules,
-3.62-3.65%), the Newton counts guarded."""
-import pytest
-from mpi4py import MPI
-
-import textile
-from textile.fabric import Fabric, Weaving, Yarn
-from tests.stability import guard
-
-R = 0.1e-3
-MAT = textile.Material(5.0e9, 0.35)
-
-
-def weave(num: int, widths: float, crimp: float, name: str, **weaving):
-    """Weave num x num bundles `widths` yarn widths apart and check what
-    every bundle weave must hold (module docstring); the solver."""
-    yarn = Yarn(7, R, MAT, packing="hexagonal")
-    spacing = widths * yarn.width
-    fabric = Fabric(yarn, num_warp=num, num_weft=num, spacing=spacing, pattern="plain",
-                    elements_per_crossing=4, free_length=spacing)
-    woven = Weaving(fabric, tension=1e-4, comm=MPI.COMM_SELF, **weaving)
-    solver = woven.run(solver_options=dict(verbose=False))
-    assert [h.stage for h in solver.history][-1] == "relaxation"
-    s = woven.summary()
-    assert s["crossings in pattern order"] == s["crossings"] == num * num
-    assert s["max penetration / radius"] <= 0.1
-    assert s["warp crimp"] == pytest.approx(crimp, rel=0.02)
-    assert s["weft crimp"] == pytest.approx(crimp, rel=0.02)
-    guard.newton_count(name, solver)
-    return solver
+Each checked as every bundle weave is (tests/weave/bundle_weave.py)."""
+from tests.weave.bundle_weave import weave
 
 
 def test_seven_fibre_bundles_weave_one_and_a_half_widths_apart():
