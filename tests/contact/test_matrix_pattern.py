@@ -119,7 +119,7 @@ def _stored_between(model, fibre_a, fibre_b, fibres) -> int:
 def test_the_pattern_holds_only_contacts_that_carry_force():
     # C lies 0.3 R beside A: detected, open, beyond the penalty's
     # regularization. Preallocated while it was within 0.5 R, such pairs
-    # left 44% of a bundle weave's stored entries zero and its
+    # left 45% of a bundle weave's stored entries zero and its
     # factorizations did 2.7 times the work (benchmarks/README.md, "A
     # contact pattern of the contacts that carry force")
     model, contact, solver = pressed_crossing(side=0.3 * R)

@@ -477,7 +477,7 @@ class FibreContact(Effect):
         # non-zero: closed, or open by less than g_r (tangent_floor); one
         # closing within Newton gets a rebuilt matrix (Newton._converged),
         # kept until the next converged state. A wider margin (0.5 R)
-        # preallocated open neighbours: 44% of a bundle weave's stored
+        # preallocated open neighbours: 45% of a bundle weave's stored
         # entries were zero and its factorizations did 2.7 times the work
         # (benchmarks/README.md, "A contact pattern of the contacts that
         # carry force")
