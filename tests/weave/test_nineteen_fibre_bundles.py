@@ -1,10 +1,12 @@
 """A 2 x 2 plain weave of 19-fibre hexagonal bundles, 2 yarn widths apart,
 tails of one spacing (issue 20 §4: the 19-fibre weave in the stability
 suite with its Newton counts). Each fibre is pulled by its own body at its
-yarn's end (``Weaving(pull="fibre")``): with one pull body per yarn the
-bundle's fibres cannot slip past each other at the pulled end and the
-settling stops at 0.99 (benchmarks/README.md, "19-fibre bundles: a pull
-body per fibre"). About 250 s on one rank since the matrix holds only the
+yarn's end (``Weaving(pull="fibre")``), as the 19-fibre weave with tails
+of two spacings needs: with one pull body per yarn its fibres cannot slip
+past each other at the pulled end and the settling stops at 0.99
+(benchmarks/README.md, "19-fibre bundles: a pull body per fibre"); with
+these tails of one spacing one body per yarn weaves too (measured
+2026-12-05). About 250 s on one rank since the matrix holds only the
 contacts that carry force (490 s before; benchmarks/README.md, "A contact
 pattern of the contacts that carry force")."""
 from tests.weave.bundle_weave import weave
