@@ -6,9 +6,8 @@ of two spacings needs: with one pull body per yarn its fibres cannot slip
 past each other at the pulled end and the settling stops at 0.99
 (benchmarks/README.md, "19-fibre bundles: a pull body per fibre"); with
 these tails of one spacing one body per yarn weaves too (measured
-2026-12-05). About 250 s on one rank since the matrix holds only the
-contacts that carry force (490 s before; benchmarks/README.md, "A contact
-pattern of the contacts that carry force")."""
+2026-12-05). Its run time: benchmarks/README.md, "A contact pattern of
+the contacts that carry force"."""
 from tests.weave.bundle_weave import weave
 
 
