@@ -190,6 +190,66 @@ def test_step_control_alone():
     assert small.gives_up(small.failed(0.015))
 
 
+def scripted_steps(control, outcomes):
+    """The steps (kind, size) StepControl gives a scripted sequence of
+    (converged, Newton iterations) outcomes, until they run out."""
+    t, dt, taken = 0.0, control.first(), []
+    for converged, iterations in outcomes:
+        step = control.clip(dt, t, 1.0)
+        if converged:
+            t += step
+            dt = control.converged(step, iterations)
+        else:
+            dt = control.failed(step)
+        taken.append(("ok" if converged else "cut", step))
+    return taken
+
+
+def test_steps_grow_again_after_a_cut():
+    """Hard steps (more than easy_iterations) keep their size, except after
+    a cut: regrow_after of them in a row at one size let the next grow.
+    Without the rule a stage whose steps all take 10 iterations (capped
+    contact passes) crept on at its hardest step's size."""
+    hard = [(True, 10)] * 4 + [(False, 30)] + [(True, 10)] * 7
+    o = SolverOptions(initial_step=0.1, max_step=0.1, cut=0.5, grow=1.5, easy_iterations=4,
+                      regrow_after=3, **QUIET)
+    sizes = [s for _, s in scripted_steps(StepControl(o), hard)]
+    assert sizes == pytest.approx([0.1] * 5 + [0.05] * 3 + [0.075] * 3 + [0.1], rel=1e-14)
+    never = SolverOptions(initial_step=0.1, max_step=0.1, regrow_after=0, **QUIET)
+    assert [s for _, s in scripted_steps(StepControl(never), hard)][5:] == \
+        pytest.approx([0.05] * 7, rel=1e-14)
+    # no cut yet: hard steps keep the initial size below max_step
+    grows = SolverOptions(initial_step=0.1, max_step=0.25, regrow_after=1, **QUIET)
+    assert [s for _, s in scripted_steps(StepControl(grows), [(True, 10)] * 4)] == \
+        pytest.approx([0.1] * 4, rel=1e-14)
+    # a resumed stage counts on from its saved count
+    control = StepControl(o, since_cut=2)
+    assert control.converged(0.05, 10) == pytest.approx(0.075, rel=1e-14)
+    with pytest.raises(ValueError, match="regrow_after must be a non-negative integer"):
+        SolverOptions(regrow_after=-1)
+
+
+def test_a_run_resumed_after_a_cut_grows_its_steps_as_the_continuous_one(tmp_path):
+    """The count of steps since the last cut is part of a saved state: the
+    cantilever's first attempts are cut three times (max_it 4), its steps
+    grow every second one after that, saved and resumed between two."""
+    options = dict(initial_step=1.0, max_step=1.0, max_it=4, easy_iterations=1,
+                   regrow_after=2, **QUIET)
+    path = str(tmp_path / "cut.h5")
+    fib, model = cantilever()
+    solver = Solver(model, options)
+    solver.on_step = lambda s, rec: textile.save_state(model, path, s) \
+        if rec.step == 3 else None
+    solver.solve()
+    continuous = [h.load_factor for h in solver.history]
+    assert continuous[:3] == pytest.approx([0.125, 0.25, 0.4375], rel=1e-14)
+    fib, model = cantilever()
+    solver = Solver(model, options)
+    assert textile.load_state(model, path, solver)["steps_since_cut"] == 1
+    solver.solve()
+    assert [h.load_factor for h in solver.history] == pytest.approx(continuous[3:], rel=1e-14)
+
+
 def test_counters_are_shared_by_the_parts():
     """The Solver's counters are its parts' (one dict)."""
     fib, model = cantilever()

@@ -9,7 +9,7 @@ the number of MPI ranks that wrote or read it (version 2):
     ``format`` ("textile-state"), ``version`` (2), ``load_factor``,
     ``num_fibres``, ``num_nodes``, ``checksum`` (SHA-256 of everything else:
     a corrupt file is refused); with a solver: ``stage``, ``stage_index``,
-    ``stage_started``, ``time``, ``steps``, ``next_step``,
+    ``stage_started``, ``time``, ``steps``, ``next_step``, ``steps_since_cut``,
     ``previous_load_factor``, ``older_load_factor``, ``negative_eigenvalues``
     (:meth:`Solver.position`).
 ``/fibres/reference`` (nodes, 9), ``/fibres/unknowns`` (nodes, 9)
@@ -524,7 +524,8 @@ def load_state(model, path: str, solver=None) -> dict:
         if all("older" in v for v in values.values()):
             older = _set_fields(model, values, "older", model.x.duplicate())
         position = {k: attrs[k] for k in ("stage", "stage_index", "stage_started", "steps",
-                                          "next_step", "previous_load_factor",
+                                          "next_step", "steps_since_cut",
+                                          "previous_load_factor",
                                           "older_load_factor", "negative_eigenvalues")
                     if k in attrs}
         solver.resume(position, previous, following, matrix_changed, older)

@@ -48,11 +48,12 @@ class SolverOptions(Options):
     ----------
     initial_step, min_step, max_step:
         Load-factor increments (0 < min <= initial <= max <= 1).
-    grow, cut:
+    grow, cut, easy_iterations, regrow_after:
         Step multiplier after an easy step (<= easy_iterations Newton
-        iterations) and after a failed one.
-    easy_iterations:
-        Newton iterations at or below which a step counts as easy.
+        iterations), and after a failed one; after a cut, regrow_after
+        steps in a row at one size also grow the next (0: never; capped
+        contact passes are never easy: benchmarks/README.md, "Steps that
+        grow again").
     rtol, atol, floor_factor, stol, max_it:
         Newton convergence, tested per group of unknowns (fibre positions,
         fibre section vectors, each other field, constrained rows; see
@@ -110,12 +111,10 @@ class SolverOptions(Options):
         (Effect.smooth_path: no contact); otherwise it evaluates the
         secant's start and the plain one and keeps the one with the smaller
         residual (two residual evaluations a step), its first tangent
-        linearized from the converged state: a start chosen step by step
-        may sit where the path turns (contacts sliding, a twisted pair's
-        snap), where the stress's trend misleads (measured: the twisted
-        pair then stops). Iteration counts:
-        benchmarks/README.md, "Solver options" and "A predictor that
-        extrapolates the stress too".
+        linearized from the converged state (a start chosen step by step
+        may sit where the path turns, where the stress's trend misleads).
+        Iteration counts: benchmarks/README.md, "Solver options" and "A
+        predictor that extrapolates the stress too".
     linear_solver:
         "mumps" (default), "superlu_dist" or "petsc" (serial).
     factorization:
@@ -130,12 +129,10 @@ class SolverOptions(Options):
         GMRES tolerance and iteration limit when a factorization is reused
         or approximate.
     scaling:
-        How MUMPS's LU factorizations (and only those: not LDL^T, not the
-        Krylov paths) see the tangent: "diagonal" (default) scaled
-        symmetrically by its diagonal, MUMPS scaling nothing itself; "mumps":
-        unscaled, MUMPS's own automatic scaling, computed again at every
-        factorization (:mod:`textile.solver.linear_solver`). The same answer
-        (benchmarks/README.md, "MUMPS scaling").
+        How MUMPS's LU factorizations (not LDL^T, not the Krylov paths) see
+        the tangent: "diagonal" (default) scaled symmetrically by its
+        diagonal; "mumps": unscaled, MUMPS's own scaling at every
+        factorization. The same answer (benchmarks/README.md, "MUMPS scaling").
     low_rank_tolerance:
         > 0: MUMPS block low-rank factorization with this compression
         tolerance (an approximate factorization preconditioning GMRES).
@@ -176,6 +173,7 @@ class SolverOptions(Options):
     grow: float = 1.5
     cut: float = 0.5
     easy_iterations: int = 4
+    regrow_after: int = 3
     rtol: float = 1e-10
     atol: float = 1e-13
     floor_factor: float = 10.0
@@ -225,10 +223,11 @@ class SolverOptions(Options):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or v < 1:
                 raise ValueError(f"SolverOptions.{name} must be a positive integer, got {v!r}")
-        v = self.newton_per_pass
-        if isinstance(v, bool) or not isinstance(v, int) or v < 0:
-            raise ValueError(f"SolverOptions.newton_per_pass must be a non-negative integer, "
-                             f"got {v!r}")
+        for name in ("newton_per_pass", "regrow_after"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < 0:
+                raise ValueError(f"SolverOptions.{name} must be a non-negative integer, "
+                                 f"got {v!r}")
         for name in ("branch_switching", "describe_instability", "verbose"):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"SolverOptions.{name} must be True or False, "

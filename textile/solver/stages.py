@@ -17,6 +17,7 @@ from .stepping import Stepping
 
 #: options a stage may change (the linear solver is set once)
 STAGE_OPTIONS = {"initial_step", "min_step", "max_step", "grow", "cut", "easy_iterations",
+                 "regrow_after",
                  "max_it", "max_updates", "newton_per_pass", "newton", "predictor",
                  "branch_switching", "branch_amplitudes", "verbose"}
 
@@ -102,7 +103,9 @@ class Stages(Stepping):
         """Where the run stands, for a saved state: the stage (name, index),
         the run's time, the steps converged so far, the step size the next
         step takes (0 once the stage is complete), the load factors of the
-        predictor's earlier states (-1: none) and the negative
+        predictor's earlier states (-1: none), the steps converged at the
+        current size since the stage's last cut (-1: none; StepControl)
+        and the negative
         eigenvalues at the last step; stage_started is 0 before any solve
         (the next stage starts from the saved state)."""
         m = self.model
@@ -112,6 +115,8 @@ class Stages(Stepping):
                     time=self.stage_index + m.load_factor,
                     steps=self.steps_before + len(self.history),
                     next_step=float(self.next_step or 0.0) if within else 0.0,
+                    steps_since_cut=self.control.since_cut if within and self.control
+                    and self.control.since_cut is not None else -1,
                     previous_load_factor=float(self.previous[0])
                     if within and self.previous is not None else -1.0,
                     older_load_factor=float(self.older[0])
@@ -159,7 +164,9 @@ class Stages(Stepping):
                 if older is not None and float(position.get("older_load_factor", -1.0)) >= 0:
                     self.older = (float(position["older_load_factor"]), older)
             step = float(position.get("next_step", 0.0))
-            self.resuming = dict(next_step=step if step > 0 else None, following=following)
+            since = int(position.get("steps_since_cut", -1))
+            self.resuming = dict(next_step=step if step > 0 else None, following=following,
+                                 since_cut=since if since >= 0 else None)
 
     def resume_matrix(self) -> None:
         """The model has a new system matrix (a loaded state changed the

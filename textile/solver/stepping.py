@@ -27,10 +27,16 @@ class StepControl:
     tried again with ``step * cut``, and the stage gives up once that is
     below ``min_step``; a converged step in at most ``easy_iterations``
     Newton iterations lets the next grow by ``grow`` (up to ``max_step``),
-    otherwise it keeps its size. A step never passes the stage's end."""
+    otherwise it keeps its size, except after a cut: ``regrow_after``
+    steps converged in a row at one size let it grow again. A step never
+    passes the stage's end.
 
-    def __init__(self, options: SolverOptions):
+    ``since_cut``: steps converged at the current size since the stage's
+    last cut (None: no cut yet; a resumed stage passes its saved count)."""
+
+    def __init__(self, options: SolverOptions, since_cut: int | None = None):
         self.options = options
+        self.since_cut = since_cut
 
     def first(self) -> float:
         return min(self.options.initial_step, self.options.max_step)
@@ -42,6 +48,7 @@ class StepControl:
 
     def failed(self, step: float) -> float:
         """The step size after a failed attempt of size step."""
+        self.since_cut = 0
         return step * self.options.cut
 
     def gives_up(self, dt: float) -> bool:
@@ -50,7 +57,13 @@ class StepControl:
     def converged(self, step: float, iterations: int) -> float:
         """The next step size after a step converged in ``iterations``."""
         o = self.options
-        if iterations <= o.easy_iterations:
+        if self.since_cut is not None:
+            self.since_cut += 1
+        if iterations <= o.easy_iterations or (
+                o.regrow_after and self.since_cut is not None
+                and self.since_cut >= o.regrow_after):
+            if self.since_cut is not None:
+                self.since_cut = 0
             return min(step * o.grow, o.max_step)
         return step
 
@@ -81,6 +94,8 @@ class Stepping:
         self.stage_started = False
         #: the step size the next step of the stage takes (after a converged step)
         self.next_step: float | None = None
+        #: the step-size rule of the stage being solved (its state is saved)
+        self.control: StepControl | None = None
         #: steps converged before this solver (a run resumed from a saved state)
         self.steps_before = 0
         #: a stage resumed from a saved state in its middle: what its first
@@ -127,7 +142,7 @@ class Stepping:
         if not (isinstance(t_end, (int, float)) and math.isfinite(t_end)):
             raise ValueError(f"t_end must be a finite number, got {t_end!r}")
         t = m.load_factor
-        control = StepControl(o)
+        control = self.control = StepControl(o)
         dt = control.first()
         if self.resuming is not None:
             # a stage resumed from a saved state: its step size and callables
@@ -135,6 +150,7 @@ class Stepping:
             resuming, self.resuming = self.resuming, None
             if resuming["next_step"] is not None:
                 dt = resuming["next_step"]
+            control.since_cut = resuming["since_cut"]
         x_saved = m.x.copy()
         attempts = 0
         while t < t_end - 1e-14:
