@@ -57,20 +57,6 @@ def _count(value, name: str, low: int = 1) -> int:
     return int(value)
 
 
-def released(value: float, ratio: float):
-    """A schedule of s in [0, 1] from ``value`` to 0: value * (ratio^s -
-    ratio) / (1 - ratio), which falls by the same factor over equal steps
-    of s (ratio^ds) until the last ones, where it goes to 0. Where a
-    support lets go of a structure much softer than itself, each step
-    then takes the same share of the way; with (1 - s)^2 nearly all of it
-    falls to the last steps (the heddles' last 1/16 of the settling took
-    the spring from 0.4% of its stiffness, still ~1000 times the fabric's,
-    to none). ratio <= 0: (1 - s)^2."""
-    if ratio <= 0:
-        return lambda s: value * (1 - s) ** 2
-    return lambda s: value * (ratio ** s - ratio) / (1 - ratio)
-
-
 class Weaving:
     """The weaving scene of a fabric and its two stages (module docstring).
 
@@ -166,9 +152,9 @@ class Weaving:
        under, to +-amplitude; the yarn tensions ramp to their value.
     2. ``settling`` (``settling_steps``): ordinary contact everywhere, the
        overlaps it starts with made up over the stage
-       (``make_up_penetrations``); the heddles' stiffness falls
-       geometrically to zero (:func:`released`, ``HEDDLE_RELEASE``), and
-       the yarns come to rest on each other, pressed by their tensions.
+       (``make_up_penetrations``); the heddles' stiffness fades as
+       (1 - s)^2 to zero, and the yarns come to rest on each other,
+       pressed by their tensions.
     3. ``relaxation`` (``relaxation_steps``): ordinary contact, no heddles:
        the woven state.
 
@@ -195,14 +181,6 @@ class Weaving:
     #: takes about half the passes of the default 1e-3 for the same woven
     #: state (measured: benchmarks/README.md, "Bundles")
     SETTLING_UPDATE_TOLERANCE = 1e-2
-    #: how the heddles let go over the settling: their stiffness falls as
-    #: :func:`released` with this ratio (over 16 steps, by 1.78 a step),
-    #: from 30 times the fibres' own 12 E I / L^3 to 2.3e-3 of it at s =
-    #: 15/16, then 0: the fabric takes them over step by step. (1 - s)^2
-    #: left the last step the fabric's whole load (3 failed attempts on the
-    #: demo); 1e-5 and 1e-6 move the hard steps to mid-stage (measured:
-    #: benchmarks/README.md, "The heddles let go geometrically")
-    HEDDLE_RELEASE = 1e-4
     #: Newton iterations between contact updates in the lifting weave's
     #: stages (SolverOptions.newton_per_pass): the passes' frozen normals
     #: are a fixed point that each solve need not settle first; 3 gave the
@@ -337,8 +315,7 @@ class Weaving:
                                              update_tolerance=max(self.SETTLING_UPDATE_TOLERANCE,
                                                                   self._update_tolerance)),
                           self.heddles: dict(lift=1.0,
-                                             stiffness=released(stiffness,
-                                                                self.HEDDLE_RELEASE))},
+                                             stiffness=lambda s: stiffness * (1 - s) ** 2)},
                             solver=dict(initial_step=1.0 / self.settling_steps,
                                         max_step=1.0 / self.settling_steps,
                                         newton_per_pass=passes)),
