@@ -51,9 +51,8 @@ class SolverOptions(Options):
     grow, cut, easy_iterations, regrow_after:
         Step multiplier after an easy step (<= easy_iterations Newton
         iterations), and after a failed one; after a cut, regrow_after
-        steps in a row at one size also grow the next (0: never; capped
-        contact passes are never easy: benchmarks/README.md, "Steps that
-        grow again").
+        steps in a row at one size also grow the next (0, default: never;
+        capped contact passes are never easy: the lifting weave uses 3).
     rtol, atol, floor_factor, stol, max_it:
         Newton convergence, tested per group of unknowns (fibre positions,
         fibre section vectors, each other field, constrained rows; see
@@ -173,7 +172,7 @@ class SolverOptions(Options):
     grow: float = 1.5
     cut: float = 0.5
     easy_iterations: int = 4
-    regrow_after: int = 3
+    regrow_after: int = 0
     rtol: float = 1e-10
     atol: float = 1e-13
     floor_factor: float = 10.0
