@@ -190,9 +190,9 @@ class Weaving:
     NEWTON_PER_PASS = 3
     #: with capped passes no step is easy (SolverOptions.easy_iterations):
     #: after a cut, steps grow again after this many in a row at one size
-    #: (SolverOptions.regrow_after). Without it the 37-fibre settling crept
-    #: on at 2.4e-4 of the stage (benchmarks/README.md, "Steps that grow
-    #: again after a cut")
+    #: (SolverOptions.regrow_after); without it a stage went on at its
+    #: hardest step's size (the 19-fibre weave: 613 Newton iterations, 512
+    #: with it; benchmarks/README.md, "Steps that grow again after a cut")
     REGROW_AFTER = 3
     #: load steps of the stage that fades the drag out (``drag`` > 0): the
     #: twisted 7-fibre weave's (1 - s)^2 fade took 40-75 Newton iterations
