@@ -134,3 +134,113 @@ def test_with_a_step_it_is_a_viscosity():
 def test_bad_steps_are_named_errors(value):
     with pytest.raises(ValueError, match=r"ViscousDrag: step is a load-factor increment"):
         ViscousDrag().configure(step=value)
+
+
+# -- a drag on the relative motion of fibre pairs -----------------------------
+
+def two_cantilevers(drag=None, comm=MPI.COMM_SELF, partition="place", elements=(8, 8)):
+    """Two parallel cantilevers 3 R apart (no contact), the second pulled
+    sideways at its tip."""
+    fibres = [textile.straight_fibre([0, y, 0], [L, y, 0], R, textile.Material(E, NU),
+                                     num_elements=n, section_vector=[0, 1, 0])
+              for y, n in zip((0.0, 3 * R), elements)]
+    model = textile.Model(fibres, comm=comm, partition=partition)
+    for fib in fibres:
+        model.clamp(fib, 0)
+    model.add_force(fibres[1], -1, [0, 0, F])
+    if drag is not None:
+        model.add_effect(drag)
+    return fibres, model
+
+
+def test_pairs_tangent_matches_finite_differences():
+    """With pairs: the relative drag eta (d_a - d_b) node by node and a
+    share of the absolute one, residual and tangent against central
+    differences; the tangent is the beams' plus the pairs' Laplacian."""
+    drag = ViscousDrag(2.0, pairs=[(0, 1)], absolute_share=0.25)
+    _, model = two_cantilevers(drag)
+    model.setup()
+    drag.prepare(model)
+    x = model.x
+    x.setArray(np.random.default_rng(7).normal(scale=1e-3 * R, size=x.getLocalSize()))
+    model.apply_constraints(x)
+    J, Jfd, free = assembled_tangent_and_differences(model, x, h=1e-9)
+    err = np.linalg.norm(J[:, free] - Jfd) / np.linalg.norm(Jfd)
+    assert err < 1e-6  # central differences: truncation ~1e-10 relative
+    _, bare = two_cantilevers()
+    bare.setup()
+    y = bare.x
+    y.setArray(x.getArray())
+    Jb, _, _ = assembled_tangent_and_differences(bare, y, h=1e-9)
+    eta = 2.0 * 12 * EI / (L / 8) ** 3
+    D = (J - Jb)[np.ix_(free, free)]
+    # per free position unknown: eta (pair) + 0.25 eta (own) on the diagonal,
+    # -eta against the same unknown of the same node of the other fibre
+    assert np.isclose(np.diag(D).max(), 1.25 * eta, rtol=1e-12)
+    assert np.count_nonzero(np.abs(np.diag(D)) > 1e-9 * eta) == 2 * 3 * 16
+    assert np.isclose(D.min(), -eta, rtol=1e-12)
+    assert np.count_nonzero(D < -1e-9 * eta) == 2 * 3 * 16
+
+
+def test_pairs_do_not_drag_a_common_motion():
+    """Both fibres moved alike: only the absolute share drags (the pairs'
+    force is zero); moved apart, the pair's force is there."""
+    drag = ViscousDrag(1.0, pairs=[(0, 1)], absolute_share=0.0)
+    fibres, model = two_cantilevers(drag)
+    model.setup()
+    drag.prepare(model)
+    x = model.x.copy()
+    v = x.getArray().reshape(-1, 9)
+    v[:, 2] = 1e-4 * R * (np.arange(len(v)) % 17)      # node i of both fibres alike
+    x.setArray(v.ravel())
+    r = model.b.duplicate()
+    model.residual(None, x, r)
+    assert drag.drag_force == 0.0
+    v[17:, 2] += 1e-3 * R                              # the second fibre's 17 nodes apart
+    x.setArray(v.ravel())
+    model.residual(None, x, r)
+    assert drag.drag_force == pytest.approx(1e-3 * R * 12 * EI / (L / 8) ** 3, rel=1e-9)
+
+
+def test_pairs_with_other_node_counts_are_named_errors():
+    with pytest.raises(ValueError, match="fibres 0 and 1 of a pair have 17 and 13 nodes"):
+        _, model = two_cantilevers(ViscousDrag(1.0, pairs=[(0, 1)]), elements=(8, 6))
+        model.setup()
+    with pytest.raises(ValueError, match="pairs name fibre 2, the model has 2"):
+        _, model = two_cantilevers(ViscousDrag(1.0, pairs=[(0, 2)]))
+        model.setup()
+    for pairs in ([(0, 0)], [(0, -1)], [(0, 1.5)], [(0, 1, 2)], "a"):
+        with pytest.raises(ValueError, match="ViscousDrag: pairs are"):
+            ViscousDrag(1.0, pairs=pairs)
+    for share in (-0.1, 1.5, True, float("nan")):
+        with pytest.raises(ValueError, match="absolute_share is in"):
+            ViscousDrag(1.0, pairs=[(0, 1)], absolute_share=share)
+    with pytest.raises(ValueError, match="absolute_share < 1 needs pairs"):
+        ViscousDrag(1.0, absolute_share=0.5)
+
+
+def _pulled_pair(comm, partition):
+    drag = ViscousDrag(3.0, pairs=[(0, 1)], absolute_share=0.1)
+    fibres, model = two_cantilevers(drag, comm=comm, partition=partition)
+    solver = textile.Solver(model, dict(initial_step=0.5, max_step=0.5, verbose=False))
+    solver.run_stage(textile.Stage("dragged"))
+    return model.nodal_unknowns(), [h.newton_iterations for h in solver.history]
+
+
+def test_pairs_hold_the_other_fibre_back():
+    """The pulled fibre drags the other along (its tip moves), a drag
+    without pairs does not."""
+    u, _ = _pulled_pair(MPI.COMM_SELF, "place")
+    assert u[16, 2] > 0.1 * u[-1, 2] > 0           # fibre 0's tip follows fibre 1's
+
+
+@pytest.mark.mpi
+def test_two_ranks_drag_pairs_as_one():
+    """Split by numbers, fibre 0 on one rank and fibre 1 on the other: each
+    pair's second node is a ghost of the rank assembling it
+    (Effect.fibre_ghosts); the same path and state as on one rank."""
+    u2, its2 = _pulled_pair(MPI.COMM_WORLD, "numbers")
+    u1, its1 = _pulled_pair(MPI.COMM_SELF, "numbers")
+    assert its2 == its1
+    # sums over ranks in another order: round-off of the Newton tolerance
+    assert np.allclose(u2, u1, rtol=1e-9, atol=1e-12 * L)

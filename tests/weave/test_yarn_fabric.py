@@ -123,6 +123,34 @@ def test_layered_packing_has_the_layers_asked_for():
     assert centre_distances(y.offsets).min() == pytest.approx(2 * R, rel=1e-12)
 
 
+def test_neighbours_are_the_fibres_next_to_each_other():
+    """Yarn.neighbours: a hexagonal 7's 12 bonds (the centre's 6 and the
+    ring's 6, not its second neighbours sqrt 3 pitches apart); a round 37's
+    ring and cross-ring neighbours (up to 1.31 of the closest distance,
+    none past NEIGHBOUR_DISTANCE); a row's side by side ones; none for a
+    monofilament. Fabric.neighbour_fibres: each yarn's, in fibre numbers."""
+    def lengths(y):
+        i, j = y.neighbours().T
+        return np.linalg.norm(y.offsets[i] - y.offsets[j], axis=1) / (2 * R)
+
+    hexagonal = Yarn(7, R, MAT)
+    assert len(hexagonal.neighbours()) == 12
+    assert lengths(hexagonal) == pytest.approx(np.ones(12), rel=1e-12)
+    assert len(Yarn(5, R, MAT, packing="layers 1").neighbours()) == 4
+    assert len(Yarn(1, R, MAT).neighbours()) == 0
+    round37 = Yarn(37, R, MAT, packing="round")
+    d = centre_distances(round37.offsets) / (2 * R)
+    d = d[np.triu_indices(37, 1)]
+    assert lengths(round37).max() == pytest.approx(d[d < 1.5].max(), rel=1e-12)
+    assert 1.3 < lengths(round37).max() and not np.any((d > 1.5) & (d < 1.6))
+    assert len(round37.neighbours()) == np.count_nonzero(d < 1.5)
+    fab = Fabric(hexagonal, num_warp=2, num_weft=2, spacing=8 * R)
+    pairs = fab.neighbour_fibres()
+    assert len(pairs) == 4 * 12
+    assert np.array_equal(fab.fibre_yarn[pairs[:, 0]], fab.fibre_yarn[pairs[:, 1]])
+    assert np.array_equal(pairs[12:24], pairs[:12] + 7)
+
+
 def test_clearance_and_custom_offsets():
     assert Yarn(7, R, MAT, clearance=0.5).width == pytest.approx(2 * R * 1.25 * 2 + 2 * R)
     y = Yarn(2, R, MAT, packing=[[-R, 0], [R, 0]])

@@ -107,6 +107,12 @@ class Effect:
     #: extrapolating the path (SolverOptions.predictor).
     smooth_path: bool = True
 
+    def fibre_ghosts(self, mesh) -> np.ndarray:
+        """Global fibre nodes this effect couples on this rank without
+        owning them (they become ghosts: :meth:`FibreMesh.add_ghosts`).
+        Called once, before the numbering is final (before add_fields)."""
+        return np.zeros(0, dtype=np.int64)
+
     def add_fields(self, model) -> list:
         """New fields this effect brings (e.g. the matrix's function space)."""
         return []

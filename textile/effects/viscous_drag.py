@@ -35,8 +35,27 @@ state is still moving when the coefficient falls (a fading stage), cutting
 cannot slow it down (benchmarks/README.md, "28-fibre bundles: a viscous
 fading").
 
-Units: those of the model (force, length); ``coefficient`` and ``step``
-dimensionless.
+With ``pairs`` (fibres side by side, e.g. neighbours in a yarn's
+packing: :meth:`~textile.Fabric.neighbour_fibres`), the drag acts on the
+motion of each pair's fibres relative to each other, node by node (node i
+of one against node i of the other: the two have as many nodes), and only
+``absolute_share`` of it on each node's own motion:
+
+    r_a += eta (d_a - d_b),  r_b -= eta (d_a - d_b),  d = x - x_n,
+    r   += absolute_share * eta d   (every node),
+
+the energy eta/2 |d_a - d_b|^2 per pair (a graph Laplacian: a bundle
+moving as a whole is not held back by it). Why: the instabilities the drag
+is there for are rearrangements within a yarn (a fibre rolling off two
+that spread, a stack buckling sideways), while the yarn's own long modes
+(straightening under its tension, sliding in at the pulled ends) are
+stable and hundreds of times softer than one element's bending. A drag on
+the absolute motion holds those back, and once it is taken away the state
+must still make that drift, one small step at a time
+(benchmarks/README.md, "A drag on the fibres' motion within their yarn").
+
+Units: those of the model (force, length); ``coefficient``, ``step`` and
+``absolute_share`` dimensionless.
 """
 from __future__ import annotations
 
@@ -53,16 +72,32 @@ class ViscousDrag(Effect):
     """Drag of the centre-line points towards the last accepted state.
 
     ``coefficient`` (>= 0; stage option): eta in units of each fibre's
-    12 E I / L^3; 0 switches the drag off."""
+    12 E I / L^3; 0 switches the drag off. ``pairs`` ((n, 2) fibre
+    numbers, optional): drag the relative motion of each pair's fibres,
+    node by node, and ``absolute_share`` (in [0, 1]) of the drag on each
+    node's own motion (module docstring); without pairs the share is 1."""
 
     fields = ("beam",)
     symmetric_tangent = True
     constant_tangent = False
 
-    def __init__(self, coefficient: float = 1.0):
+    def __init__(self, coefficient: float = 1.0, pairs=None, absolute_share: float = 1.0):
         self.coefficient = _coefficient(coefficient)
         self.step = None        # None: a drag; h > 0: a viscosity (module docstring)
         self._accepted = 0.0    # the load factor of the last accepted step
+        self.pairs = _pairs(pairs)
+        v = absolute_share
+        if isinstance(v, bool) or not isinstance(v, numbers.Real) or not 0 <= v <= 1:
+            raise ValueError(f"ViscousDrag: absolute_share is in [0, 1], got {v!r}")
+        if not len(self.pairs) and v != 1:
+            raise ValueError("ViscousDrag: absolute_share < 1 needs pairs (without them "
+                             "nothing else is dragged)")
+        self.absolute_share = float(v)
+        # the pairs' couplings are outside the beam's node blocks: declared
+        # again at every matrix rebuild (the rebuilt pattern is read from
+        # tangents, which hold nothing of a drag switched off)
+        self.dynamic_sparsity = bool(len(self.pairs))
+        self._node_pairs = None   # (n, 2) global nodes of this rank's pairs
 
     def configure(self, coefficient=None, step=False, **unknown) -> None:
         """Stage options: ``coefficient``, the drag from this stage on (0:
@@ -96,23 +131,71 @@ class ViscousDrag(Effect):
         ds = s - self._accepted if s > self._accepted else s
         return c * self.step / ds if ds > 1e-12 else c
 
+    def fibre_ghosts(self, mesh) -> np.ndarray:
+        # a pair is assembled by the rank owning its first node
+        self._node_pairs = self._pairs_of_nodes(mesh)
+        return self._node_pairs[:, 1]
+
+    def _pairs_of_nodes(self, mesh) -> np.ndarray:
+        """This rank's (n, 2) global node pairs: node i of one fibre of a
+        pair against node i of the other, those whose first node it owns."""
+        p = self.pairs
+        if not len(p):
+            return np.zeros((0, 2), dtype=np.int64)
+        nf = len(mesh.fibres)
+        if p.max() >= nf:
+            raise ValueError(f"ViscousDrag: pairs name fibre {int(p.max())}, the model has {nf}")
+        count = np.diff(mesh.first_node)
+        bad = np.flatnonzero(count[p[:, 0]] != count[p[:, 1]])
+        if len(bad):
+            f, g = p[bad[0]]
+            raise ValueError(f"ViscousDrag: fibres {f} and {g} of a pair have {count[f]} and "
+                             f"{count[g]} nodes; a pair's fibres need as many (node i against "
+                             f"node i)")
+        n = count[p[:, 0]]
+        i = np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)
+        nodes = np.column_stack([np.repeat(mesh.first_node[p[:, 0]], n) + i,
+                                 np.repeat(mesh.first_node[p[:, 1]], n) + i])
+        return nodes[mesh.owns(nodes[:, 0])]
+
     def setup(self, model) -> None:
         mesh = model.mesh
         self.model = model
-        # eta per owned node (its fibre's), position dofs only
-        owned = mesh.local_to_global[: mesh.num_owned]
-        node_fibre = np.searchsorted(mesh.first_node, owned, side="right") - 1
         stiffness = np.array([12 * f.material.young * math.pi * f.radius ** 4 / 4
                               / (f.length / ((f.num_nodes - 1) // mesh.order)) ** 3
                               for f in mesh.fibres])
-        self._unit = stiffness[node_fibre]                 # 12 E I / L^3 of each owned node
-        self._pos = (9 * np.arange(mesh.num_owned)[:, None] + np.arange(3)).ravel()
+        # eta per local node (its fibre's), position dofs only; the
+        # absolute drag acts on the owned ones, pairs may reach ghosts
+        nodes = mesh.local_to_global if len(self.pairs) else mesh.local_to_global[: mesh.num_owned]
+        node_fibre = np.searchsorted(mesh.first_node, nodes, side="right") - 1
+        self._unit = stiffness[node_fibre]                 # 12 E I / L^3 of each node
+        self._pos = (9 * np.arange(len(nodes))[:, None] + np.arange(3)).ravel()
+        self._owned = mesh.num_owned
+        if self._node_pairs is None:
+            self._node_pairs = self._pairs_of_nodes(mesh)
+        self._pair_local = mesh.global_to_local(self._node_pairs).astype(np.int32)
+        assert np.all(self._pair_local >= 0), "pair nodes are local by construction"
+        self._pair_unit = self._unit[self._pair_local[:, 0]] if len(self._pair_local) \
+            else np.zeros(0)
         self._force_scale = model.force_scale
         self._reference = None
         self.drag_force = 0.0
 
     def _x(self, state: State) -> np.ndarray:
         return state.u["beam"][self._pos]
+
+    def add_sparsity(self, sparsity) -> None:
+        for pair in self._pair_local:
+            sparsity.insert("beam", "beam", pair, pair)
+
+    def add_dynamic_pattern(self, model, pattern) -> None:
+        if not len(self._node_pairs):
+            return
+        dofs = model.beam_global_dofs()
+        rows = np.ascontiguousarray(dofs[(9 * self._node_pairs[:, :, None]
+                                          + np.arange(3)).reshape(-1, 6)], dtype=np.int32)
+        for row in rows:
+            pattern.add(row, row)
 
     def prepare(self, model) -> None:
         if self._reference is None:   # a new run, or one resumed from a saved state
@@ -124,20 +207,43 @@ class ViscousDrag(Effect):
         self.drag_force = 0.0
         if c == 0:
             return
-        eta = np.repeat(c * self._unit, 3)
-        force = eta * (self._x(state) - self._reference)
-        b["beam"][self._pos] += force
-        self.drag_force = float(np.abs(force).max(initial=0.0))
+        if not len(self.pairs):
+            eta = np.repeat(c * self._unit, 3)
+            force = eta * (self._x(state) - self._reference)
+            b["beam"][self._pos] += force
+            self.drag_force = float(np.abs(force).max(initial=0.0))
+            return
+        d = (self._x(state) - self._reference).reshape(-1, 3)
+        force = np.zeros_like(d)
+        own = self._owned
+        force[:own] = (self.absolute_share * c) * self._unit[:own, None] * d[:own]
+        a, g = self._pair_local[:, 0], self._pair_local[:, 1]
+        relative = c * self._pair_unit[:, None] * (d[a] - d[g])
+        np.add.at(force, a, relative)
+        np.add.at(force, g, -relative)
+        b["beam"][self._pos] += force.ravel()
+        # ghost rows hold part of a sum: the owned ones are the statistic
+        self.drag_force = float(np.abs(force[:own]).max(initial=0.0))
 
     def jacobian(self, state: State, A) -> None:
         c = self._c(state.load_factor)
         if c == 0:
             return
         dofs = state.dofs["beam"][self._pos]
-        eta = np.repeat(c * self._unit, 3)
-        for value in np.unique(eta):
-            _cpp.add_diagonal(A, np.ascontiguousarray(dofs[eta == value], dtype=np.int32),
-                              float(value))
+        own = 3 * self._owned
+        eta = np.repeat(self.absolute_share * c * self._unit, 3)[:own]
+        if self.absolute_share > 0:
+            for value in np.unique(eta):
+                _cpp.add_diagonal(A, np.ascontiguousarray(dofs[:own][eta == value],
+                                                          dtype=np.int32), float(value))
+        if not len(self._pair_local):
+            return
+        node = dofs.reshape(-1, 3)
+        a, g = node[self._pair_local[:, 0]].ravel(), node[self._pair_local[:, 1]].ravel()
+        w = np.repeat(c * self._pair_unit, 3)
+        _cpp.add_entries(A, np.ascontiguousarray(np.concatenate([a, g, a, g]), dtype=np.int32),
+                         np.ascontiguousarray(np.concatenate([a, g, g, a]), dtype=np.int32),
+                         np.concatenate([w, w, -w, -w]))
 
     def commit(self, model) -> None:
         self._reference = self._x(model.state())
@@ -147,6 +253,22 @@ class ViscousDrag(Effect):
         comm = self.model.comm
         largest = comm.allreduce(self.drag_force, op=max)
         return {"drag_force": largest / self._force_scale}
+
+
+def _pairs(pairs) -> np.ndarray:
+    if pairs is None:
+        return np.zeros((0, 2), dtype=np.int64)
+    try:
+        p = np.array(pairs, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise ValueError(f"ViscousDrag: pairs are (n, 2) fibre numbers, got {pairs!r}") from e
+    if p.size == 0:
+        return np.zeros((0, 2), dtype=np.int64)
+    if p.ndim != 2 or p.shape[1] != 2 or np.any(p != np.round(p)) or np.any(p < 0) \
+            or np.any(p[:, 0] == p[:, 1]) or not np.all(np.isfinite(p)):
+        raise ValueError(f"ViscousDrag: pairs are (n, 2) numbers of two different fibres, "
+                         f"got {pairs!r}")
+    return p.astype(np.int64)
 
 
 def _coefficient(value) -> float:

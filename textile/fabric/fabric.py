@@ -263,6 +263,15 @@ class Fabric:
             self.fibre_yarn = np.array(self.fibre_yarn)
         return list(self._fibres)
 
+    def neighbour_fibres(self) -> np.ndarray:
+        """(n, 2) fibre numbers (those of :meth:`fibres`) of the pairs of
+        fibres next to each other within a yarn (Yarn.neighbours), yarn
+        after yarn."""
+        self.fibres()
+        first = np.searchsorted(self.fibre_yarn, np.arange(self.num_yarns))
+        pairs = [first[k] + self.yarn(k).neighbours() for k in range(self.num_yarns)]
+        return np.vstack(pairs).astype(np.int64)
+
     def _yarn_fibres(self, k: int) -> list[Fibre]:
         yarn = self.yarn(k)
         a, b = self.yarn_axis(k)

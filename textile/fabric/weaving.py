@@ -116,6 +116,12 @@ class Weaving:
         28-fibre 2 x 2 weave (amplitude 0.45) fades through with it and
         stops without it (benchmarks/README.md, "28-fibre bundles: a
         viscous fading").
+    drag_within_yarns:
+        With a ``drag`` or ``lifting_drag``: True (default), the drag acts
+        on the motion of neighbouring fibres of a yarn relative to each
+        other (:meth:`~textile.Fabric.neighbour_fibres`), and only
+        ``DRAG_ABSOLUTE_SHARE`` of it on each node's own motion; False, on
+        each node's own motion (:class:`~textile.effects.ViscousDrag`).
     newton_per_pass:
         Lifting: Newton iterations between contact updates in its stages
         (``SolverOptions.newton_per_pass``; 0: each Newton solve to
@@ -192,19 +198,31 @@ class Weaving:
     #: after a cut, steps grow again after this many in a row at one size
     #: (SolverOptions.regrow_after); without it a stage went on at its
     #: hardest step's size (the 19-fibre weave: 613 Newton iterations, 512
-    #: with it; benchmarks/README.md, "Steps that grow again after a cut")
+    #: with it; benchmarks/README.md, "Steps that grow again after a cut").
+    #: The fading stage's uncapped steps (6-25 iterations) are not easy
+    #: either: it regrows there too (the 6 x 6 weave of 7-fibre bundles
+    #: fades to the end with it, and stopped at 0.998 without;
+    #: benchmarks/README.md, "A drag on the fibres' motion within their
+    #: yarn")
     REGROW_AFTER = 3
     #: load steps of the stage that fades the drag out (``drag`` > 0): the
     #: twisted 7-fibre weave's (1 - s)^2 fade took 40-75 Newton iterations
     #: a step at first with 4 (benchmarks/README.md, "Twisted bundles")
     FADING_STEPS = 4
+    #: with ``drag_within_yarns``, the share of the drag on each node's own
+    #: motion (ViscousDrag's absolute_share): small, so that the yarns'
+    #: long modes settle under their tension while the drag holds the
+    #: fibres' rearrangements within the yarns (benchmarks/README.md, "A
+    #: drag on the fibres' motion within their yarn")
+    DRAG_ABSOLUTE_SHARE = 0.01
 
     def __init__(self, fabric: Fabric, steps: int | None = None,
                  relaxation_steps: int = 1, tension: float = 1e-4, contact=None, element=None,
                  method: str | None = None, settling_steps: int = 16, amplitude: float = 0.55,
                  drag: float = 0.0, lifting_drag: float = 0.0, viscous_fading: bool = False,
-                 newton_per_pass: int | None = None, pull: str = "yarn",
-                 preset: str | None = None, comm=MPI.COMM_WORLD, partition: str = "place"):
+                 drag_within_yarns: bool = True, newton_per_pass: int | None = None,
+                 pull: str = "yarn", preset: str | None = None, comm=MPI.COMM_WORLD,
+                 partition: str = "place"):
         if not isinstance(fabric, Fabric):
             raise TypeError(f"Weaving: fabric must be a textile.fabric.Fabric, got "
                             f"{type(fabric).__name__}")
@@ -246,6 +264,10 @@ class Weaving:
             raise ValueError("Weaving: viscous_fading makes the fading stage's drag a viscosity; "
                              "it needs a drag > 0")
         self.viscous_fading = viscous_fading
+        if not isinstance(drag_within_yarns, bool):
+            raise TypeError(f"Weaving: drag_within_yarns is True or False, got "
+                            f"{drag_within_yarns!r}")
+        self.drag_within_yarns = drag_within_yarns
         self.fabric = fabric
         self.tension = float(tension)
         self.drag = float(drag)
@@ -279,7 +301,10 @@ class Weaving:
             self.model.add_effect(self.heddles)
         self.viscous_drag = None
         if self.drag > 0 or self.lifting_drag > 0:
-            self.viscous_drag = ViscousDrag(0.0)   # switched on by the stages
+            # switched on by the stages
+            self.viscous_drag = ViscousDrag(0.0, pairs=fabric.neighbour_fibres(),
+                                            absolute_share=self.DRAG_ABSOLUTE_SHARE) \
+                if self.drag_within_yarns else ViscousDrag(0.0)
             self.model.add_effect(self.viscous_drag)
         self.pull = pull
         self.clamps, self.pulls = [], []
@@ -356,7 +381,8 @@ class Weaving:
                                               step=1.0 / self.FADING_STEPS
                                               if self.viscous_fading else None)},
                        solver=dict(relaxation.solver, initial_step=1.0 / self.FADING_STEPS,
-                                   max_step=1.0 / self.FADING_STEPS))
+                                   max_step=1.0 / self.FADING_STEPS,
+                                   regrow_after=self.REGROW_AFTER))
         relaxation.effects[self.viscous_drag] = dict(coefficient=0.0)
         return [lifting, settling, fading, relaxation]
 

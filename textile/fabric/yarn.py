@@ -95,6 +95,13 @@ offsets typed or computed by a user carry their own round-off."""
 #: filaments (0.2-0.3), and what the virtual tests take between yarns.
 BUNDLE_FRICTION = 0.2
 
+#: Fibres of a yarn whose centres are closer than this many times the
+#: packing's closest centre distance are neighbours (Yarn.neighbours): a
+#: hexagonal lattice's nearest sites (1) and not its second ones (sqrt 3);
+#: the round packings' neighbours on a ring and across rings (up to 1.31
+#: on 37 fibres, tests/weave/test_yarn_fabric.py)
+NEIGHBOUR_DISTANCE = 1.5
+
 # a lattice site, the centre of a triangle of sites, the middle of a bond
 # (in pitches): the centres a compact hexagonal bundle can have
 _HEX_CENTRES = ((0.0, 0.0), (0.5, math.sqrt(3) / 6), (0.5, 0.0))
@@ -424,6 +431,19 @@ class Yarn:
     def offsets(self) -> np.ndarray:
         """(count, 2) offsets (d across, h vertical) of the fibres' centres."""
         return self._offsets.copy()
+
+    def neighbours(self) -> np.ndarray:
+        """(n, 2) pairs (i < j) of this yarn's fibres next to each other in
+        its section: centres closer than NEIGHBOUR_DISTANCE times the
+        closest two (none for a monofilament). A twisted yarn's fibres turn
+        together, so they stay neighbours along it."""
+        o = self._offsets
+        if len(o) < 2:
+            return np.zeros((0, 2), dtype=np.int64)
+        i, j = np.triu_indices(len(o), 1)
+        d = np.linalg.norm(o[i] - o[j], axis=1)
+        near = d < NEIGHBOUR_DISTANCE * d.min()
+        return np.column_stack([i[near], j[near]]).astype(np.int64)
 
     @property
     def outer_radius_of_centres(self) -> float:

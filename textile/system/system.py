@@ -76,6 +76,10 @@ class System:
         self._external_work: PETSc.Vec | None = None   # _applied_forces
         self._applied_kept = None                        # _applied_forces
         self._reaction_values = np.zeros(0)
+        for e in self.effects:
+            nodes = e.fibre_ghosts(self.mesh)
+            if len(nodes):
+                self.mesh.add_ghosts(nodes)
         fields = [Field("beam", self.mesh.index_map, 9)]
         #: field name -> the effect that brings it (None: the fibres')
         self._field_owner = {"beam": None}
