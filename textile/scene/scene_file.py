@@ -255,7 +255,8 @@ def _schema():
     weaving = table({"steps": (integer(1), None), "relaxation_steps": (integer(1), 1),
                      "tension": (number(positive=True), 1e-4), "drag": (number(minimum=0), 0.0),
                      "lifting_drag": (number(minimum=0), 0.0),
-                     "viscous_fading": (boolean, False), "contact": (contact, None)})
+                     "viscous_fading": (boolean, False),
+                     "drag_within_yarns": (boolean, True), "contact": (contact, None)})
     test_keys = {"type": (string(TEST_TYPES), None), "name": (string(), None),
                  "steps": (integer(1), None), "release_steps": (integer(0), None),
                  "strain": (number(nonzero=True), None), "ratio": (number(), None),
@@ -768,12 +769,13 @@ class Scene:
     def weaving_options(self) -> dict:
         w = self.data["weaving"] or {"steps": None, "relaxation_steps": 1, "tension": 1e-4,
                                      "drag": 0.0, "lifting_drag": 0.0, "viscous_fading": False,
-                                     "contact": None}
+                                     "drag_within_yarns": True, "contact": None}
         return dict(steps=w["steps"] or self.preset()["weaving"]["steps"],
                     relaxation_steps=w["relaxation_steps"], tension=w["tension"],
                     contact=self.contact_options(w["contact"]), element=self.element(),
                     **{k: w[k] for k in ("drag", "lifting_drag") if w[k] > 0},
-                    **({"viscous_fading": True} if w["viscous_fading"] else {}))
+                    **({"viscous_fading": True} if w["viscous_fading"] else {}),
+                    **({} if w["drag_within_yarns"] else {"drag_within_yarns": False}))
 
     # -- running -----------------------------------------------------------------
     def run(self, output: str | None = None, resume: str | None = None, comm=None) -> dict:
