@@ -338,10 +338,10 @@ def test_wrong_type(tmp_path):
     data["weaving"]["viscous_fading"] = True
     assert "drag_within_yarns" not in read_scene(str(tmp_path / "viscous.toml")) \
         .weaving_options()                       # the default: Weaving's own
-    data["weaving"]["drag_within_yarns"] = False
-    write_toml(tmp_path / "on_nodes.toml", data)
-    assert read_scene(str(tmp_path / "on_nodes.toml")).weaving_options()[
-        "drag_within_yarns"] is False
+    data["weaving"]["drag_within_yarns"] = True
+    write_toml(tmp_path / "within.toml", data)
+    assert read_scene(str(tmp_path / "within.toml")).weaving_options()[
+        "drag_within_yarns"] is True
     data["weaving"]["drag_within_yarns"] = "no"
     refused(tmp_path, data, "scene.toml: weaving.drag_within_yarns: must be true or false, "
                             "got \"no\"")

@@ -117,11 +117,16 @@ class Weaving:
         stops without it (benchmarks/README.md, "28-fibre bundles: a
         viscous fading").
     drag_within_yarns:
-        With a ``drag`` or ``lifting_drag``: True (default), the drag acts
-        on the motion of neighbouring fibres of a yarn relative to each
-        other (:meth:`~textile.Fabric.neighbour_fibres`), and only
-        ``DRAG_ABSOLUTE_SHARE`` of it on each node's own motion; False, on
-        each node's own motion (:class:`~textile.effects.ViscousDrag`).
+        With a ``drag`` or ``lifting_drag``: False (default), the drag acts
+        on each node's own motion (:class:`~textile.effects.ViscousDrag`);
+        True, on the motion of neighbouring fibres of a yarn relative to
+        each other (:meth:`~textile.Fabric.neighbour_fibres`), and only
+        ``DRAG_ABSOLUTE_SHARE`` of it on each node's own motion. True takes
+        fewer Newton iterations on 3- and 7-fibre bundles (633 against 762,
+        807 against 904 twisted) but the 28-fibre 2 x 2 weave then folds an
+        element near the fading's end (s = 0.9984) where the default weaves
+        (benchmarks/README.md, "A drag on the fibres' motion within their
+        yarn").
     newton_per_pass:
         Lifting: Newton iterations between contact updates in its stages
         (``SolverOptions.newton_per_pass``; 0: each Newton solve to
@@ -220,7 +225,7 @@ class Weaving:
                  relaxation_steps: int = 1, tension: float = 1e-4, contact=None, element=None,
                  method: str | None = None, settling_steps: int = 16, amplitude: float = 0.55,
                  drag: float = 0.0, lifting_drag: float = 0.0, viscous_fading: bool = False,
-                 drag_within_yarns: bool = True, newton_per_pass: int | None = None,
+                 drag_within_yarns: bool = False, newton_per_pass: int | None = None,
                  pull: str = "yarn", preset: str | None = None, comm=MPI.COMM_WORLD,
                  partition: str = "place"):
         if not isinstance(fabric, Fabric):

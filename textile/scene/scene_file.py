@@ -256,7 +256,7 @@ def _schema():
                      "tension": (number(positive=True), 1e-4), "drag": (number(minimum=0), 0.0),
                      "lifting_drag": (number(minimum=0), 0.0),
                      "viscous_fading": (boolean, False),
-                     "drag_within_yarns": (boolean, True), "contact": (contact, None)})
+                     "drag_within_yarns": (boolean, False), "contact": (contact, None)})
     test_keys = {"type": (string(TEST_TYPES), None), "name": (string(), None),
                  "steps": (integer(1), None), "release_steps": (integer(0), None),
                  "strain": (number(nonzero=True), None), "ratio": (number(), None),
@@ -769,13 +769,13 @@ class Scene:
     def weaving_options(self) -> dict:
         w = self.data["weaving"] or {"steps": None, "relaxation_steps": 1, "tension": 1e-4,
                                      "drag": 0.0, "lifting_drag": 0.0, "viscous_fading": False,
-                                     "drag_within_yarns": True, "contact": None}
+                                     "drag_within_yarns": False, "contact": None}
         return dict(steps=w["steps"] or self.preset()["weaving"]["steps"],
                     relaxation_steps=w["relaxation_steps"], tension=w["tension"],
                     contact=self.contact_options(w["contact"]), element=self.element(),
                     **{k: w[k] for k in ("drag", "lifting_drag") if w[k] > 0},
                     **({"viscous_fading": True} if w["viscous_fading"] else {}),
-                    **({} if w["drag_within_yarns"] else {"drag_within_yarns": False}))
+                    **({"drag_within_yarns": True} if w["drag_within_yarns"] else {}))
 
     # -- running -----------------------------------------------------------------
     def run(self, output: str | None = None, resume: str | None = None, comm=None) -> dict:
