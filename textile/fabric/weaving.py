@@ -99,10 +99,12 @@ class Weaving:
         Lifting: the coefficient of a
         :class:`~textile.effects.ViscousDrag` (pseudo-time) through the
         settling stage, faded out as (1 - s)^2 over a ``fading`` stage
-        (``FADING_STEPS`` steps, the heddles gone) before the relaxation,
-        which has none: the woven state is the structure's own equilibrium.
-        A path through the instabilities where the heddles let go, where
-        the contact loop otherwise alternates between two sets (twisted
+        (``FADING_STEPS`` steps, the heddles gone) that takes the
+        relaxation's place: its last step, at s = 1, has no drag, so its
+        state is the structure's own equilibrium (``relaxation_steps`` then
+        unused; why no relaxation stage follows: :meth:`stages`). A path
+        through the instabilities where the heddles let go, where the
+        contact loop otherwise alternates between two sets (twisted
         bundles). 0 (default): no drag, three stages.
     lifting_drag:
         Lifting: the same drag's coefficient in the lifting stage (default
@@ -169,8 +171,8 @@ class Weaving:
     3. ``relaxation`` (``relaxation_steps``): ordinary contact, no heddles:
        the woven state.
 
-    With ``drag`` > 0 a ``fading`` stage, between settling and relaxation,
-    takes the drag away.
+    With ``drag`` > 0 a ``fading`` stage after the settling takes the drag
+    away, and is the last: its last step, drag-free, is the relaxation.
 
     Its yarns never interpenetrate once lifted, so ordinary contact never
     meets a hidden overlap; the ordered weave measures gaps along the
@@ -337,7 +339,19 @@ class Weaving:
     def stages(self) -> list[Stage]:
         """The weaving stage, then the ordinary-contact relaxation (ordered
         method); lifting, settling, relaxation (lifting method; with a
-        ``drag``, a ``fading`` stage before the relaxation)."""
+        ``drag``, lifting, settling, fading).
+
+        Why a fading stage ends the weave: its drag c (1 - s)^2 is 0 at its
+        last step, so that step's converged state is already the
+        drag-free equilibrium a relaxation would seek. A relaxation after it
+        would solve the same equilibrium again from the fading's committed
+        friction history, where every contact that slipped in the last step
+        sits on the stick-slip cone (just inside it, ``stick_margin``); with
+        no load increment to give their motion a direction, hundreds of
+        them switch between stick and slip from one Newton iteration to the
+        next (300-1400 of 5300 active contacts on the 6 x 6 weave of
+        7-fibre bundles), and its Newton never converges (benchmarks/
+        README.md, "The fading's last step is the relaxation")."""
         if self.method == "lifting":
             stiffness, passes = self.HEDDLE_STIFFNESS, self.newton_per_pass
             capped = dict(newton_per_pass=passes,
@@ -373,7 +387,8 @@ class Weaving:
     def _with_drag(self, stages: list[Stage]) -> list[Stage]:
         """The lifting weave's stages with the drags on in the lifting
         (``lifting_drag``) and the settling (``drag``, then faded out in a
-        ``fading`` stage), off in the relaxation."""
+        ``fading`` stage that replaces the relaxation: :meth:`stages`); with
+        only a ``lifting_drag``, off in the settling and the relaxation."""
         lifting, settling, relaxation = stages
         c = self.drag
         lifting.effects[self.viscous_drag] = dict(coefficient=self.lifting_drag)
@@ -388,8 +403,7 @@ class Weaving:
                        solver=dict(relaxation.solver, initial_step=1.0 / self.FADING_STEPS,
                                    max_step=1.0 / self.FADING_STEPS,
                                    regrow_after=self.REGROW_AFTER))
-        relaxation.effects[self.viscous_drag] = dict(coefficient=0.0)
-        return [lifting, settling, fading, relaxation]
+        return [lifting, settling, fading]
 
     def output(self, directory: str, **options) -> Output:
         """An :class:`~textile.io.output.Output` that also writes each fibre's
