@@ -12,7 +12,15 @@ included), the woven fabric's figures, and writes them to
         [--fibres 28] [--yarns 6] [--elements 4] [--spacing 2] [--packing "layers 1"]
         [--weaving-steps 5] [--crossing-patch 2]
         [--solver '{"low_rank_tolerance": 1e-8}']
+        [--weaving '{"drag": 0.1, "lifting_drag": 0.1, "viscous_fading": true}']
     mpirun -n 2 .venv/bin/python benchmarks/weave_sample.py
+
+Bundles (``--packing hexagonal``, ``round``) weave by lifting, the 6 x 6
+sample with the drags of ``--weaving`` (Weaving's options) and
+``--solver '{"max_it": 50}'`` (benchmarks/README.md, "The fading's last
+step is the relaxation"); their woven states go to
+``output/weave_sample_<pattern>_<fibres>_<packing>.h5``, the flat-row
+sample's keep their name.
 
 The figures of benchmarks/README.md (2 ranks): the plain weave with
 ``--patterns plain --solver '{"low_rank_tolerance": 1e-8}'`` (since
@@ -41,16 +49,26 @@ R = 0.1e-3
 MAT = textile.Material(5.0e9, 0.35)
 
 
+def woven_name(pattern: str, fibres: int, packing: str) -> str:
+    """The woven state's file name (in OUT): the flat-row sample's keeps
+    its name, other yarns' carry their fibre count and packing."""
+    name = pattern.replace(" ", "_").replace("/", "-")
+    if (fibres, packing) != (28, "layers 1"):
+        name += f"_{fibres}_{packing.replace(' ', '')}"
+    return f"weave_sample_{name}.h5"
+
+
 def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, packing: str,
           solver_options: dict, comm, weaving_steps: int = 5,
-          free_length: float | None = None, crossing_patch: int = 2) -> dict:
+          free_length: float | None = None, crossing_patch: int = 2,
+          weaving_options: dict | None = None) -> dict:
     yarn = Yarn(fibres, R, MAT, packing=packing)
     fabric = Fabric(yarn, num_warp=yarns, num_weft=yarns, spacing=spacing * yarn.width,
                     pattern=pattern, elements_per_crossing=elements,
                     free_length=None if free_length is None
                     else free_length * spacing * yarn.width)
     weaving = Weaving(fabric, steps=weaving_steps, comm=comm,
-                      contact=dict(crossing_patch=crossing_patch))
+                      contact=dict(crossing_patch=crossing_patch), **(weaving_options or {}))
     model = weaving.model
     t0 = time.perf_counter()
     error = ""
@@ -70,20 +88,21 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
                   newton_iterations=h.newton_iterations, attempts=h.attempts,
                   updates=h.updates, wall_seconds=h.wall_time) for h in solver.history]
     summary = weaving.summary() if not error else {}
-    name = pattern.replace(" ", "_").replace("/", "-")
-    textile.save_state(model, os.path.join(OUT, f"weave_sample_{name}.h5"), solver,
+    textile.save_state(model, os.path.join(OUT, woven_name(pattern, fibres, packing)), solver,
                        fibre_data={"yarn": fabric.fibre_yarn})
     return dict(pattern=pattern, yarns=yarns, fibres_per_yarn=fibres, packing=packing,
                 free_length=fabric.free_length / fabric.spacing[0],
                 spacing_in_widths=spacing, weaving_steps=weaving_steps,
-                crossing_patch=crossing_patch,
+                crossing_patch=crossing_patch, weaving_options=weaving_options or {},
+                stages=[st.name for st in weaving.stages()],
                 solver_options=solver_options, size=size, wall_seconds=wall,
                 counters=solver.counters, steps=steps, summary=summary, error=error)
 
 
 def run_key(r: dict) -> tuple:
     return (r["pattern"], r.get("fibres_per_yarn"), r.get("packing"), r.get("spacing_in_widths"),
-            r.get("weaving_steps", 5), r.get("yarns", 6), r.get("crossing_patch", 2))
+            r.get("weaving_steps", 5), r.get("yarns", 6), r.get("crossing_patch", 2),
+            json.dumps(r.get("weaving_options", {}), sort_keys=True))
 
 
 def earlier_runs(path: str, args) -> list[dict]:
@@ -95,7 +114,8 @@ def earlier_runs(path: str, args) -> list[dict]:
     with open(path) as f:
         before = json.load(f)
     now = {(p, args.fibres, args.packing, args.spacing, args.weaving_steps, args.yarns,
-            args.crossing_patch) for p in args.patterns}
+            args.crossing_patch, json.dumps(args.weaving, sort_keys=True))
+           for p in args.patterns}
     return [dict(dict(date=before.get("date"), ranks=before.get("ranks")), **r)
             for r in before.get("runs", []) if run_key(r) not in now]
 
@@ -121,6 +141,9 @@ def main():
                              "(ContactOptions.crossing_patch)")
     parser.add_argument("--solver", type=json.loads, default={},
                         help='solver options as JSON, e.g. \'{"low_rank_tolerance": 1e-8}\'')
+    parser.add_argument("--weaving", type=json.loads, default={},
+                        help='Weaving options as JSON, e.g. \'{"drag": 0.1, "lifting_drag": '
+                             '0.1, "viscous_fading": true}\'')
     args = parser.parse_args()
     comm = MPI.COMM_WORLD
     os.makedirs(OUT, exist_ok=True)
@@ -131,7 +154,7 @@ def main():
     for pattern in args.patterns:
         r = weave(pattern, args.fibres, args.yarns, args.elements, args.spacing, args.packing,
                   args.solver, comm, args.weaving_steps, args.free_length,
-                  args.crossing_patch)
+                  args.crossing_patch, args.weaving)
         r.update(date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), ranks=comm.size,
                  machine=runtime.describe())
         runs.append(r)
