@@ -1,7 +1,10 @@
 """The paper's virtual tests on its 336-fibre sample (docs/method.md §10).
 
 Starts from the woven state ``weave_sample.py`` saved (6 x 6 flat yarns of
-28 fibres, plain weave, 2 yarn widths apart; give ``--woven`` for another)
+28 fibres, plain weave, 2 yarn widths apart; give ``--woven`` for another;
+``--fibres`` and ``--packing`` name a sample of other yarns, e.g. 7-fibre
+hexagonal bundles, whose woven state, figures and curves carry their
+fibre count and packing: ``output/virtual_tests_sample_7_hexagonal.json``)
 and runs
 
 - **shear** (the paper's set-up, no matrix): 30 steps; side xmax moved along
@@ -19,6 +22,7 @@ later keeps what it did; tests not run again keep their earlier entry).
 
     mpirun -n 2 .venv/bin/python benchmarks/virtual_tests_sample.py
         [--tests shear bending twisting] [--steps-shear 30] [--steps-rotation 15]
+        [--fibres 7 --packing hexagonal]
         [--solver '{"low_rank_tolerance": 1e-8, "branch_switching": false,
                     "describe_instability": true}']
 
@@ -97,6 +101,13 @@ class DetectionClock:
             setattr(FibreContact, name, original)
 
 
+def sample_suffix(fibres: int, packing: str) -> str:
+    """'' for the flat-row sample, else its yarns' fibre count and packing
+    (as weave_sample.woven_name)."""
+    return "" if (fibres, packing) == (28, "layers 1") else \
+        f"_{fibres}_{packing.replace(' ', '')}"
+
+
 def run_test(name: str, fabric, woven: str, steps: int, args, comm, progress) -> dict:
     L = fabric.spacing[0]
     options = dict(steps=steps, solver_options=dict(args.solver, verbose=comm.rank == 0),
@@ -159,15 +170,20 @@ def run_test(name: str, fabric, woven: str, steps: int, args, comm, progress) ->
                    newton_iterations=c["newton_iterations"],
                    newton_per_step=c["newton_iterations"] / max(len(steps_out), 1))
         if comm.rank == 0:
-            result.write(os.path.join(OUT, f"virtual_tests_sample_{name}"))
+            result.write(os.path.join(
+                OUT, f"virtual_tests_sample{sample_suffix(args.fibres, args.packing)}_{name}"))
     return out
 
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--woven", default=os.path.join(OUT, "weave_sample_plain.h5"))
+    parser.add_argument("--woven", default=None,
+                        help="woven state (default: weave_sample.py's plain weave of these "
+                             "yarns)")
     parser.add_argument("--tests", nargs="+", default=["shear", "bending", "twisting"])
     parser.add_argument("--fibres", type=int, default=28)
+    parser.add_argument("--packing", default="layers 1",
+                        help="the yarns' packing, as weave_sample.py's")
     parser.add_argument("--yarns", type=int, default=6)
     parser.add_argument("--elements", type=int, default=4)
     parser.add_argument("--spacing", type=float, default=2.0, help="in yarn widths")
@@ -186,13 +202,16 @@ def main():
     comm = MPI.COMM_WORLD
     if comm.rank == 0:
         print(runtime.describe())
+    suffix = sample_suffix(args.fibres, args.packing)
+    if args.woven is None:
+        args.woven = os.path.join(OUT, f"weave_sample_plain{suffix}.h5")
     if not os.path.exists(args.woven):
         raise SystemExit(f"{args.woven}: no woven state; run weave_sample.py first")
-    yarn = Yarn(args.fibres, R, FIBRE, packing="layers 1")
+    yarn = Yarn(args.fibres, R, FIBRE, packing=args.packing)
     fabric = Fabric(yarn, num_warp=args.yarns, num_weft=args.yarns,
                     spacing=args.spacing * yarn.width, pattern="plain",
                     elements_per_crossing=args.elements)
-    path = os.path.join(OUT, "virtual_tests_sample.json")
+    path = os.path.join(OUT, f"virtual_tests_sample{suffix}.json")
     # tests run before (another day, another invocation) stay in the file
     # unless run again; each test carries its own date and machine
     kept = []

@@ -96,3 +96,34 @@ def test_plot_curve_bad_input(tmp_path):
         plot_curve(tmp_path / "a.png", u, u, "u", "F", reference=(u, u))
     # nothing is written for rejected input
     assert not (tmp_path / "a.png").exists()
+
+
+def test_an_empty_load_curve_writes_its_header_and_no_picture(tmp_path):
+    """A virtual test stopped before its first loading step has an empty
+    curve: its CSV (header only) is written, no PNG, no error."""
+    from textile.virtual_tests.load_curve import LoadCurve
+
+    curve = LoadCurve("u [mm]", "F [N]")
+    paths = curve.write(str(tmp_path), "stopped")
+    assert paths == [str(tmp_path / "stopped.csv")]
+    assert (tmp_path / "stopped.csv").read_text().strip() == "u [mm],F [N]"
+    assert not (tmp_path / "stopped.png").exists()
+    curve.add(0.0, 0.0)
+    assert len(curve.write(str(tmp_path), "stopped")) == 2
+    assert_png(tmp_path / "stopped.png")
+
+
+def test_a_test_stopped_before_its_first_step_writes_its_record(tmp_path):
+    """A virtual test's result with no loading step (IncompleteTest.result
+    of a test whose settling stopped): write() gives the CSV header, the
+    JSON record and a fibre table saying there is none, no error."""
+    import json
+
+    from textile.virtual_tests.load_curve import LoadCurve
+    from textile.virtual_tests.virtual_test import VirtualTestResult
+
+    result = VirtualTestResult("shear", LoadCurve("angle [rad]", "force [N]"))
+    paths = result.write(str(tmp_path))
+    assert [p.rsplit("/", 1)[1] for p in paths] == ["shear.csv", "shear.json"]
+    assert json.loads((tmp_path / "shear.json").read_text())["steps"] == []
+    assert (tmp_path / "shear_fibres.txt").read_text().startswith("no loading step")

@@ -84,9 +84,13 @@ class LoadCurve:
                    self.xlabel, self.ylabel, title=self.title, label=labels)
 
     def write(self, directory: str, name: str) -> list[str]:
-        """``<name>.csv`` and ``<name>.png`` in ``directory``; their paths."""
+        """``<name>.csv`` and ``<name>.png`` in ``directory``; their paths.
+        An empty curve (a test stopped before its first loading step) has
+        its CSV header only and no picture."""
         os.makedirs(directory, exist_ok=True)
         paths = [os.path.join(directory, f"{name}.csv"), os.path.join(directory, f"{name}.png")]
         self.write_csv(paths[0])
+        if not len(self):
+            return paths[:1]
         self.write_png(paths[1])
         return paths

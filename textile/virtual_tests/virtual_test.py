@@ -64,7 +64,10 @@ class VirtualTestResult:
     fibre_yarn: np.ndarray | None = None
 
     def ranked_table(self, count: int = 10) -> str:
-        """The most loaded fibres at the last step."""
+        """The most loaded fibres at the last step (a line saying there is
+        none when the test stopped before its first loading step)."""
+        if not self.fibre_loads:
+            return "no loading step: no fibre loads"
         return ranked_table(self.fibre_loads, count=count, yarn=self.fibre_yarn)
 
     @property
@@ -80,7 +83,9 @@ class VirtualTestResult:
 
     def write(self, directory: str) -> list[str]:
         """``<name>.csv``, ``<name>.png`` and ``<name>.json`` (the steps and
-        figures) in ``directory`` (call on one rank); their paths."""
+        figures) and ``<name>_fibres.txt`` in ``directory`` (call on one
+        rank); the paths of the first three (no PNG when the test stopped
+        before its first loading step: LoadCurve.write)."""
         paths = self.curve.write(directory, self.name)
         with open(os.path.join(directory, f"{self.name}_fibres.txt"), "w") as f:
             f.write(self.ranked_table(count=20) + "\n")
