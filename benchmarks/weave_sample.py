@@ -159,6 +159,7 @@ def main():
                  machine=runtime.describe())
         runs.append(r)
         peak = comm.allreduce(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0)
+        r["peak_memory_mib"] = peak   # this process's peak so far: this run and any before it
         if comm.rank != 0:
             continue
         s = r["size"]
