@@ -132,6 +132,12 @@ class FibreMesh:
                                                    self._ghost_owners)
         return self._index_map
 
+    @property
+    def numbering_final(self) -> bool:
+        """Is the local numbering final (the index map built at
+        ``Model.setup``)? Then no node can become a ghost any more."""
+        return self._index_map is not None
+
     def add_ghosts(self, nodes) -> None:
         """Make global ``nodes`` local on this rank (ghosts where not owned).
 
@@ -140,7 +146,7 @@ class FibreMesh:
         its matrix cell. Not collective. Only before the index map is built
         (``Model.setup``), since it renumbers the ghosts.
         """
-        if self._index_map is not None:
+        if self.numbering_final:
             raise RuntimeError("FibreMesh.add_ghosts: the local numbering is final once the "
                                "model is set up; create junctions before setting up or solving")
         nodes = np.asarray(nodes, dtype=np.int64).ravel()

@@ -63,7 +63,7 @@ distinct (fibre element, matrix cell) pair.
 Parallel: a junction is assembled by the one rank owning the matrix cell
 containing its point (point_basis's rule: the lowest rank for a point on a
 partition interface). The fibre element nodes it couples become ghosts of
-the fibre mesh there (:meth:`FibreMesh.add_ghosts`) when the junctions are
+the fibre mesh there (:meth:`fibre_ghosts`) when the junctions are
 created, which must therefore happen before the model is set up. The share
 of (junction, fibre node) couplings whose node another rank owns is
 ``statistics()["junction_off_rank_fraction"]``.
@@ -235,6 +235,11 @@ class FibreMatrixJunctions(Effect):
         if section is None:
             section = np.zeros((len(xi), 2))
         mesh = model.mesh
+        if mesh.numbering_final:
+            # the junctions' fibre nodes could not become ghosts (fibre_ghosts)
+            raise RuntimeError("FibreMatrixJunction: the fibre mesh's local numbering is final "
+                               "once the model is set up; create junctions before setting up "
+                               "or solving")
         self.fields = ("beam", block.name)
         self.block, self.stiffness = block, stiffness
         self._model = model
@@ -252,8 +257,7 @@ class FibreMatrixJunctions(Effect):
         self._section = np.ascontiguousarray(section[sel], dtype=float).reshape(-1, 2)
         self._cells, self._phi = cells[mine], phi[mine]
         nodes = mesh.elements_global[self._elem_global]           # (n, nf)
-        self._nodes_global = nodes
-        mesh.add_ghosts(nodes.ravel())
+        self._nodes_global = nodes   # their off-rank nodes become ghosts: fibre_ghosts
 
         # couplings (junction, fibre node) whose node this rank does not own
         off = int(np.count_nonzero(~mesh.owns(nodes)))
@@ -271,6 +275,10 @@ class FibreMatrixJunctions(Effect):
         self.tangent_assemblies = 0
 
     # -- Effect interface -------------------------------------------------
+    def fibre_ghosts(self, mesh) -> np.ndarray:
+        # the fibre nodes of this rank's junctions (their elements')
+        return self._nodes_global.ravel()
+
     def setup(self, model) -> None:
         if model.mesh is not self._model.mesh:   # model: the scene's System
             raise ValueError("FibreMatrixJunctions: the junctions belong to another model")
@@ -281,7 +289,7 @@ class FibreMatrixJunctions(Effect):
                              "its junctions")
         mesh = model.mesh
         local = mesh.global_to_local(self._nodes_global)
-        assert np.all(local >= 0), "junction nodes are local by construction (add_ghosts)"
+        assert np.all(local >= 0), "junction nodes are local by construction (fibre_ghosts)"
         self._local = local.astype(np.int32)
         self._cell_nodes = np.ascontiguousarray(self.block.cell_dofs(self._cells), dtype=np.int32)
         if not len(self._phi):
