@@ -22,7 +22,7 @@ later keeps what it did; tests not run again keep their earlier entry).
 
     mpirun -n 2 .venv/bin/python benchmarks/virtual_tests_sample.py
         [--tests shear bending twisting] [--steps-shear 30] [--steps-rotation 15]
-        [--fibres 7 --packing hexagonal]
+        [--fibres 7 --packing hexagonal --settle-drag 0.1]
         [--solver '{"low_rank_tolerance": 1e-8, "branch_switching": false,
                     "describe_instability": true}']
 
@@ -113,7 +113,7 @@ def run_test(name: str, fabric, woven: str, steps: int, args, comm, progress) ->
     options = dict(steps=steps, solver_options=dict(args.solver, verbose=comm.rank == 0),
                    comm=comm)
     if name == "shear":
-        test = Shear(fabric, woven, args.shear * L, **options)
+        test = Shear(fabric, woven, args.shear * L, settle_drag=args.settle_drag, **options)
     else:
         kind = Bending if name == "bending" else Twisting
         test = kind(fabric, woven, math.radians(args.angle), matrix=MATRIX,
@@ -184,6 +184,9 @@ def main():
     parser.add_argument("--fibres", type=int, default=28)
     parser.add_argument("--packing", default="layers 1",
                         help="the yarns' packing, as weave_sample.py's")
+    parser.add_argument("--settle-drag", type=float, default=0.0,
+                        help="the shear's first stage with a drag faded out (Sample's "
+                             "settle_drag; bundles)")
     parser.add_argument("--yarns", type=int, default=6)
     parser.add_argument("--elements", type=int, default=4)
     parser.add_argument("--spacing", type=float, default=2.0, help="in yarn widths")

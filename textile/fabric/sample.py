@@ -35,6 +35,8 @@ materials' Young's modulus times an area); angles in radians.
 """
 from __future__ import annotations
 
+import math
+import numbers
 import os
 
 import numpy as np
@@ -45,6 +47,7 @@ from . import measures
 from .. import presets
 from ..effects.fibre_contact import ContactOptions, FibreContact
 from ..effects.nodal_loads import ReleasedForces
+from ..effects.viscous_drag import ViscousDrag
 from .fabric import Fabric
 from ..io import fabric_labels
 from ..io.state_file import load_fibres, saved_configuration
@@ -105,13 +108,30 @@ class Sample:
         own: e.g. spread with the sample in biaxial tension, where a rigid
         side would hold the ends of the other direction at their woven
         spacing.
+    settle_drag:
+        0 (default) or the coefficient c of a
+        :class:`~textile.effects.ViscousDrag` on the fibres' centre lines
+        through the first stage (``settle_drag_effects``), faded out as
+        c (1 - s)^2, a viscosity (a cut step drags harder), so that the
+        stage's last step has none: the state the loading starts from is
+        the sample's own equilibrium. A path for bundles whose friction
+        starts afresh: without it the contact loop around Newton diverges
+        in the first stage, through the fibres' spin, and an element folds
+        at every step size (a 2 x 2 sample of 3-fibre bundles, friction
+        between the yarns too, settles with c = 0.1 and stopped at 0.0625
+        without; benchmarks/README.md, "The fading's last step is the
+        relaxation").
     comm:
         MPI communicator.
     """
 
+    #: load steps of a first stage with a ``settle_drag`` (the drag's
+    #: viscosity step, as the weaving's fading stage's)
+    SETTLE_DRAG_STEPS = 4
+
     def __init__(self, fabric: Fabric, woven: str | None, sides=("xmin", "xmax"), pins=(),
                  contact=None, free_ends: str = "yarns", split=(), preset: str | None = None,
-                 comm=MPI.COMM_WORLD):
+                 settle_drag: float = 0.0, comm=MPI.COMM_WORLD):
         name = type(self).__name__
         self.preset = presets.checked(preset, name)
         if not isinstance(fabric, Fabric):
@@ -136,6 +156,10 @@ class Sample:
         for label, subset in (("pins", pins), ("split", split)):
             if not set(subset) <= set(sides):
                 raise ValueError(f"{name}: {label} {subset!r} must be among the sides {sides!r}")
+        if isinstance(settle_drag, bool) or not isinstance(settle_drag, numbers.Real) \
+                or not math.isfinite(settle_drag) or settle_drag < 0:
+            raise ValueError(f"{name}: settle_drag must be a finite number >= 0, got "
+                             f"{settle_drag!r}")
         self.fabric, self.woven = fabric, woven
         fibres = fabric.fibres()
         # the configuration everything is built around: the woven one
@@ -206,6 +230,11 @@ class Sample:
         if woven is not None and self.contact is not None and self.contact.has_friction:
             self.released_friction = ReleasedForces("friction forces of the woven state")
             self.model.add_effect(self.released_friction)
+        # off until the first stage switches it on (settle_drag_effects)
+        self.settle_drag = float(settle_drag)
+        self.drag = ViscousDrag(0.0) if settle_drag > 0 else None
+        if self.drag is not None:
+            self.model.add_effect(self.drag)
         self.model.setup()
         if woven is not None:
             load_fibres(self.model, woven)
@@ -358,6 +387,21 @@ class Sample:
         for body, r in zip(bodies, self._resultants(bodies, ends, imbalance)):
             free = np.setdiff1d(np.arange(6), body.prescribed)
             body.loads.start[free] = r[free]    # from there to the loads' own targets
+
+    def settle_drag_effects(self, steps: int) -> dict:
+        """The first stage's effect options of the ``settle_drag`` (faded
+        out as c (1 - s)^2 over the stage, a viscosity of nominal step
+        1/``steps``); {} without one."""
+        if self.drag is None:
+            return {}
+        c = self.settle_drag
+        return {self.drag: dict(coefficient=lambda s: c * (1 - s) ** 2, step=1.0 / steps)}
+
+    def drag_off_effects(self) -> dict:
+        """The stages after the first: the ``settle_drag`` off ({} without
+        one; a stage that does not name the drag would keep the first
+        stage's fading coefficient, evaluated at its own load factor)."""
+        return {} if self.drag is None else {self.drag: dict(coefficient=0.0, step=None)}
 
     def release_stage(self, steps: int = 2) -> Stage:
         """The first stage: the forces that stand for the weaving run's

@@ -153,6 +153,11 @@ class VirtualTest:
         sample's yarns with free ends rest on a few crossings only and can
         slide away once let go. Default (None): 2 with a matrix (the matrix
         takes the yarns' weaving tension over), 0 without.
+    settle_drag:
+        A fabric alone: 0 (default) or the coefficient of a drag on the
+        fibres' centre lines through the first stage, faded out to none at
+        its end (:class:`~textile.fabric.sample.Sample`'s ``settle_drag``):
+        bundles whose friction starts afresh settle with it.
     solver_options:
         :class:`~textile.solver.SolverOptions` entries (tolerances, linear
         solver, verbose).
@@ -181,8 +186,8 @@ class VirtualTest:
 
     def __init__(self, fabric: Fabric, woven: str, steps: int = 10, matrix: Material | None = None,
                  composite: dict | None = None, contact=None, release_steps: int | None = None,
-                 solver_options: dict | None = None, output: str | None = None,
-                 preset: str | None = None, comm=MPI.COMM_WORLD):
+                 settle_drag: float = 0.0, solver_options: dict | None = None,
+                 output: str | None = None, preset: str | None = None, comm=MPI.COMM_WORLD):
         if woven is None or not isinstance(woven, (str, os.PathLike)):
             raise TypeError(f"{type(self).__name__}: woven must be the path of a saved woven "
                             f"state (textile.save_state after a Weaving run), got {woven!r}")
@@ -206,8 +211,12 @@ class VirtualTest:
                 raise ValueError(f"{type(self).__name__}: composite options {composite!r} "
                                  f"without a matrix")
             self.sample = Sample(fabric, str(woven), sides=self.sides, pins=self.pins,
-                                 split=self.split, contact=contact, preset=preset, comm=comm)
+                                 split=self.split, contact=contact, preset=preset,
+                                 settle_drag=settle_drag, comm=comm)
         else:
+            if settle_drag:
+                raise ValueError(f"{type(self).__name__}: settle_drag is for a fabric alone "
+                                 f"(the matrix holds a composite's fibres)")
             if self.pins:
                 raise ValueError(f"{type(self).__name__}: pinned sides are not available with "
                                  f"a matrix (a matrix face follows its body fully)")
@@ -260,11 +269,16 @@ class VirtualTest:
         (``release_steps`` > 0), or only settles the loaded woven state with
         this test's contact options; over it, the woven state's friction
         forces and the side bodies' free components are released
-        (:class:`~textile.fabric.sample.Sample`). The curve starts where it
-        ends."""
+        (:class:`~textile.fabric.sample.Sample`), and a ``settle_drag``
+        fades out. The curve starts where it ends."""
         if self.release_steps:
-            return self.sample.release_stage(self.release_steps)
-        return Stage("settle", solver=dict(initial_step=1.0, max_step=1.0))
+            stage = self.sample.release_stage(self.release_steps)
+            steps = self.release_steps
+        else:
+            steps = self.sample.SETTLE_DRAG_STEPS if self.sample.drag is not None else 1
+            stage = Stage("settle", solver=dict(initial_step=1.0 / steps, max_step=1.0 / steps))
+        stage.effects.update(self.sample.settle_drag_effects(steps))
+        return stage
 
     def run(self) -> VirtualTestResult:
         """Release (or settle), then load step by step; the result
@@ -276,7 +290,7 @@ class VirtualTest:
         # first stage, not at once
         self.sample.hold_side_reactions()
         stages = [self.first_stage(),
-                  Stage(self.name, ramp=targets,
+                  Stage(self.name, ramp=targets, effects=self.sample.drag_off_effects(),
                         solver=dict(initial_step=1.0 / self.steps, max_step=1.0 / self.steps))]
         what = "composite" if isinstance(self.sample, Composite) else "woven sample"
         curve = LoadCurve(self.xlabel, self.ylabel, title=f"{self.name} of the {what}")
