@@ -23,9 +23,24 @@ The scene:
   moment it exerted in the saved state (so the sample starts in
   equilibrium): the fibres of a yarn end stay together, as in a yarn whose
   tip is sealed; a lone fibre end of a small sample's yarn, resting on a
-  crossing or two, would slide away. With ``free_ends="fibres"`` a force on
-  each fibre end stands for it instead (a composite's matrix holds the
-  fibres). :meth:`Sample.release_stage` lets those loads go.
+  crossing or two, would slide away. A body at a bundle's end keeps its
+  woven orientation (its rotations held, ``turning_ends``): free to turn, it
+  is a near-zero-stiffness mode (below). With ``free_ends="fibres"`` a
+  force on each fibre end stands for it instead (a composite's matrix holds
+  the fibres). :meth:`Sample.release_stage` lets those loads go.
+
+Why a bundle's free end body must not turn: it holds its fibres' end
+sections together, so turning it about an axis across the yarn makes the
+fibres slide along each other over the yarn's tail. Once the friction
+between them slips, only the fibres' own bending resists that: on a 2 x 2
+sample of 3-fibre bundles in the shear test the tangent's smallest singular
+values (1e-5 against 1e7) are those bodies turning with their fibres'
+sections, Newton's updates turn them by radians and an element folds at
+every step size. With their rotations held, the sample settles and shears
+without a drag (benchmarks/README.md, "Yarn ends that keep their
+orientation"). A real cut end has no such body; the held orientation is
+the sample's boundary condition at the free sides, as if the yarns went on
+straight beyond them.
 
 :class:`~textile.composite.Composite` adds a matrix (and junctions) to this
 scene; its side bodies also hold the matrix faces.
@@ -98,6 +113,13 @@ class Sample:
     free_ends:
         "yarns" or "fibres": what stands for the weaving run's end bodies at
         the yarn ends no side body holds (module docstring).
+    turning_ends:
+        With ``free_ends="yarns"``: may those yarn-end bodies turn (True) or
+        do they keep their woven orientation, moving freely (False: their
+        three rotations held, a support outside the side bodies'
+        reactions)? None (default): False at the ends of bundles
+        (``Yarn.is_bundle``), True at flat yarns' and monofilaments' (module
+        docstring).
     preset:
         Accuracy preset (:mod:`textile.presets`; None: "standard"): the
         contact options (a dict given overrides them key by key, a
@@ -115,12 +137,14 @@ class Sample:
         c (1 - s)^2, a viscosity (a cut step drags harder), so that the
         stage's last step has none: the state the loading starts from is
         the sample's own equilibrium. A path for bundles whose friction
-        starts afresh: without it the contact loop around Newton diverges
-        in the first stage, through the fibres' spin, and an element folds
-        at every step size (a 2 x 2 sample of 3-fibre bundles, friction
-        between the yarns too, settles with c = 0.1 and stopped at 0.0625
-        without; benchmarks/README.md, "The fading's last step is the
-        relaxation").
+        starts afresh and whose free end bodies turn (``turning_ends``
+        True): without it the contact loop around Newton diverges in the
+        first stage and an element folds at every step size (a 2 x 2
+        sample of 3-fibre bundles, friction between the yarns too, settles
+        with c = 0.1 and stopped at 0.0625 without; benchmarks/README.md,
+        "The fading's last step is the relaxation"). With those bodies
+        keeping their orientation (the default at bundles' ends) it settles
+        without a drag.
     comm:
         MPI communicator.
     """
@@ -131,7 +155,8 @@ class Sample:
 
     def __init__(self, fabric: Fabric, woven: str | None, sides=("xmin", "xmax"), pins=(),
                  contact=None, free_ends: str = "yarns", split=(), preset: str | None = None,
-                 settle_drag: float = 0.0, comm=MPI.COMM_WORLD):
+                 settle_drag: float = 0.0, turning_ends: bool | None = None,
+                 comm=MPI.COMM_WORLD):
         name = type(self).__name__
         self.preset = presets.checked(preset, name)
         if not isinstance(fabric, Fabric):
@@ -152,6 +177,9 @@ class Sample:
         pins = _side_names(pins, f"{name}: pins", allow_empty=True)
         if free_ends not in ("yarns", "fibres"):
             raise ValueError(f"{name}: free_ends must be 'yarns' or 'fibres', got {free_ends!r}")
+        if turning_ends not in (None, True, False):
+            raise ValueError(f"{name}: turning_ends must be True, False or None (bundles' "
+                             f"ends keep their orientation), got {turning_ends!r}")
         split = _side_names(split, f"{name}: split", allow_empty=True)
         for label, subset in (("pins", pins), ("split", split)):
             if not set(subset) <= set(sides):
@@ -219,9 +247,13 @@ class Sample:
             for side in SIDES:
                 if side in self.sides or side in self.yarn_bodies:
                     continue
+                yarn = getattr(fabric, SIDES[side][0])
+                turning = not yarn.is_bundle if turning_ends is None else turning_ends
                 for k, ends in self._ends_by_yarn(side).items():
                     body = RigidBody(f"{side} end of yarn {k}", sections=ends)
                     self._release += [body.add_force(np.zeros(3)), body.add_moment(np.zeros(3))]
+                    if not turning:
+                        body.fix(("rx", "ry", "rz"))
                     self.model.add_rigid_body(body)
                     self.end_bodies.append(body)
         # the friction forces the woven state's contacts carry, released

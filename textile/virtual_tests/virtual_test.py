@@ -158,6 +158,10 @@ class VirtualTest:
         fibres' centre lines through the first stage, faded out to none at
         its end (:class:`~textile.fabric.sample.Sample`'s ``settle_drag``):
         bundles whose friction starts afresh settle with it.
+    turning_ends:
+        A fabric alone: may the bodies at the free yarn ends turn
+        (:class:`~textile.fabric.sample.Sample`'s ``turning_ends``; None,
+        default: not at bundles' ends, which keep their woven orientation).
     solver_options:
         :class:`~textile.solver.SolverOptions` entries (tolerances, linear
         solver, verbose).
@@ -186,8 +190,9 @@ class VirtualTest:
 
     def __init__(self, fabric: Fabric, woven: str, steps: int = 10, matrix: Material | None = None,
                  composite: dict | None = None, contact=None, release_steps: int | None = None,
-                 settle_drag: float = 0.0, solver_options: dict | None = None,
-                 output: str | None = None, preset: str | None = None, comm=MPI.COMM_WORLD):
+                 settle_drag: float = 0.0, turning_ends: bool | None = None,
+                 solver_options: dict | None = None, output: str | None = None,
+                 preset: str | None = None, comm=MPI.COMM_WORLD):
         if woven is None or not isinstance(woven, (str, os.PathLike)):
             raise TypeError(f"{type(self).__name__}: woven must be the path of a saved woven "
                             f"state (textile.save_state after a Weaving run), got {woven!r}")
@@ -212,11 +217,15 @@ class VirtualTest:
                                  f"without a matrix")
             self.sample = Sample(fabric, str(woven), sides=self.sides, pins=self.pins,
                                  split=self.split, contact=contact, preset=preset,
-                                 settle_drag=settle_drag, comm=comm)
+                                 settle_drag=settle_drag, turning_ends=turning_ends,
+                                 comm=comm)
         else:
             if settle_drag:
                 raise ValueError(f"{type(self).__name__}: settle_drag is for a fabric alone "
                                  f"(the matrix holds a composite's fibres)")
+            if turning_ends is not None:
+                raise ValueError(f"{type(self).__name__}: turning_ends is for a fabric alone "
+                                 f"(a composite's free fibre ends have no end bodies)")
             if self.pins:
                 raise ValueError(f"{type(self).__name__}: pinned sides are not available with "
                                  f"a matrix (a matrix face follows its body fully)")
