@@ -22,7 +22,7 @@ later keeps what it did; tests not run again keep their earlier entry).
 
     mpirun -n 2 .venv/bin/python benchmarks/virtual_tests_sample.py
         [--tests shear bending twisting] [--steps-shear 30] [--steps-rotation 15]
-        [--fibres 7 --packing hexagonal --settle-drag 0.1]
+        [--fibres 7 --packing hexagonal]
         [--solver '{"low_rank_tolerance": 1e-8, "branch_switching": false,
                     "describe_instability": true}']
 
@@ -186,7 +186,8 @@ def main():
                         help="the yarns' packing, as weave_sample.py's")
     parser.add_argument("--settle-drag", type=float, default=0.0,
                         help="the shear's first stage with a drag faded out (Sample's "
-                             "settle_drag; bundles)")
+                             "settle_drag; not needed since bundles' free end bodies keep "
+                             "their orientation)")
     parser.add_argument("--yarns", type=int, default=6)
     parser.add_argument("--elements", type=int, default=4)
     parser.add_argument("--spacing", type=float, default=2.0, help="in yarn widths")

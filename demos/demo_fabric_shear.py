@@ -14,7 +14,9 @@ twice from that state, once each way (docs/method.md §10):
    contact sticks where weaving left it); a rigid body on side ``xmin``
    clamping the warp yarns' start sections, one on ``xmax`` clamping their
    end sections; the weft yarns' ends are free (each yarn end keeps a
-   free body of its own, loaded by what held it during weaving);
+   free body of its own, loaded by what held it during weaving; at a
+   bundle's end that body keeps its woven orientation, since turning it
+   would let the bundle's fibres slide along each other at no cost);
 2. **the test** (:class:`textile.virtual_tests.Shear`): ``xmin`` fixed;
    ``xmax`` moved along y by ``--shear`` yarn spacings in ``--steps``
    steps, free to move along x (the orthogonal displacement is free), its
