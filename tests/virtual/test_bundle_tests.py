@@ -29,6 +29,7 @@ from mpi4py import MPI
 
 import textile
 from textile.effects.nodal_loads import ReleasedForces
+from textile.fabric.sample import Sample
 from textile.virtual_tests import Bending, IncompleteTest, Shear, Tension
 
 from tests.woven_states import bundle_weave, woven_once
@@ -185,5 +186,7 @@ def test_bundle_ends_keep_their_orientation(woven):
         shear(True).run()
     with pytest.raises(ValueError, match="turning_ends must be True, False or None"):
         shear("no")
+    with pytest.raises(ValueError, match="turning_ends is for free_ends='yarns'"):
+        Sample(fabric(), woven, free_ends="fibres", turning_ends=False, comm=MPI.COMM_SELF)
     with pytest.raises(ValueError, match="turning_ends is for a fabric alone"):
         Bending(fabric(), woven, 0.1, matrix=FIBRE, turning_ends=False, comm=MPI.COMM_SELF)

@@ -180,6 +180,9 @@ class Sample:
         if turning_ends not in (None, True, False):
             raise ValueError(f"{name}: turning_ends must be True, False or None (bundles' "
                              f"ends keep their orientation), got {turning_ends!r}")
+        if turning_ends is not None and free_ends != "yarns":
+            raise ValueError(f"{name}: turning_ends is for free_ends='yarns' (the yarn-end "
+                             f"bodies), got free_ends={free_ends!r}")
         split = _side_names(split, f"{name}: split", allow_empty=True)
         for label, subset in (("pins", pins), ("split", split)):
             if not set(subset) <= set(sides):
