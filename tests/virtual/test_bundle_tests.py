@@ -6,8 +6,9 @@ bundle, none between yarns) and saved.
 The bodies at the free yarn ends (the weft yarns' here) keep their woven
 orientation at bundles' ends (Sample's turning_ends): free to turn, they
 are the tangent's softest modes once the friction within the bundles
-slips, and the shear with friction between the yarns too stops at 1% of
-its load (test_bundle_ends_keep_their_orientation). The tests that show
+slips, and the shear with friction between the yarns too stops in its
+settling (with a drag through it, at 1% of its loading;
+test_bundle_ends_keep_their_orientation). The tests that show
 the other paths built for bundles let those bodies turn, as they did then:
 
 - the woven state's bundles are held together by the friction between
