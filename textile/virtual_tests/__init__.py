@@ -8,7 +8,8 @@ from .picture_frame import PictureFrame
 from .shear import Shear
 from .tension import Tension
 from .twisting import Twisting
-from .virtual_test import IncompleteTest, VirtualTest, VirtualTestResult, figures_table
+from .virtual_test import (START_FIGURE, IncompleteTest, VirtualTest, VirtualTestResult,
+                           figures_table)
 
-__all__ = ["Bending", "IncompleteTest", "LoadCurve", "PictureFrame", "Shear", "Tension",
-           "Twisting", "VirtualTest", "VirtualTestResult", "figures_table"]
+__all__ = ["START_FIGURE", "Bending", "IncompleteTest", "LoadCurve", "PictureFrame", "Shear",
+           "Tension", "Twisting", "VirtualTest", "VirtualTestResult", "figures_table"]

@@ -7,6 +7,14 @@ A concrete test (tension, shear, ...) says which sides get a body and how
 they are held (:meth:`VirtualTest.hold`), what it ramps
 (:meth:`VirtualTest.drive`) and what it measures at a step
 (:meth:`VirtualTest.measure`).
+
+The curve is the side's reaction as computed, not tared: its first point
+is the released (settled) sample's, which holds the woven state's own
+stresses (the crimped yarns' bending, the contact forces between them)
+and is not zero on a finite sample; the load then moves from it alike
+both ways (benchmarks/README.md, "The shear curve's start"). Stiffnesses
+are slopes, so the start does not enter them; the figures give it under
+``START_FIGURE`` (a test machine's preload, which an experiment tares).
 """
 from __future__ import annotations
 
@@ -28,6 +36,10 @@ from ..fabric.sample import Sample
 from ..solver import ConvergenceError, Solver
 from .load_curve import LoadCurve
 
+#: the figure holding the curve's first point: the released sample's
+#: reaction (module docstring)
+START_FIGURE = "load at the start (the released sample's reaction)"
+
 
 @dataclass
 class VirtualTestResult:
@@ -39,7 +51,7 @@ class VirtualTestResult:
         The test ("tension", "shear", ...).
     curve:
         The :class:`~textile.virtual_tests.load_curve.LoadCurve` (first point:
-        the released sample).
+        the released sample, not tared: module docstring).
     steps:
         Per loading step: step number, load factor, Newton iterations,
         attempts (failed ones included), wall seconds, the reactions'
@@ -352,5 +364,7 @@ class VirtualTest:
         result.counters = solver.counters
         # a curve needs the released state and a loading step
         result.figures = self.summarize(result) if result.steps else {}
+        if result.steps:
+            result.figures[START_FIGURE] = float(result.curve.y[0])
         if self.output_dir and self.comm.rank == 0 and result.curve.x:
             result.write(self.output_dir)
