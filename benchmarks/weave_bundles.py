@@ -62,7 +62,9 @@ def weave(fibres: int, spacing: float, easy: int, drag: float, relax: bool, comm
     fabric = Fabric(yarn, num_warp=num, num_weft=num, spacing=spacing * across,
                     pattern=pattern, elements_per_crossing=4,
                     free_length=free_length * spacing * across)
-    weaving = Weaving(fabric, comm=comm, relaxation_steps=relaxation_steps, method=method,
+    # with a drag the fading stage ends the weave: no relaxation stage to count
+    weaving = Weaving(fabric, comm=comm, relaxation_steps=None if drag > 0 else relaxation_steps,
+                      method=method,
                       **(dict(drag=drag, lifting_drag=lifting_drag, viscous_fading=viscous_fading,
                               newton_per_pass=newton_per_pass, pull=pull)
                          if method == "lifting" else {}),

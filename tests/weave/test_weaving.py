@@ -149,6 +149,8 @@ def test_bad_weaving_options():
     assert lifted.stages()[1].effects[lifted.viscous_drag]["coefficient"] == 0.0
     with pytest.raises(ValueError, match="viscous_fading .* needs a drag > 0"):
         Weaving(bundles, viscous_fading=True, comm=MPI.COMM_SELF)
+    with pytest.raises(ValueError, match="relaxation_steps has no stage to count with a drag"):
+        Weaving(bundles, drag=0.1, relaxation_steps=2, comm=MPI.COMM_SELF)
     with pytest.raises(TypeError, match="viscous_fading is True or False"):
         Weaving(bundles, drag=0.1, viscous_fading=1, comm=MPI.COMM_SELF)
     viscous = Weaving(bundles, drag=0.1, viscous_fading=True, comm=MPI.COMM_SELF)

@@ -68,7 +68,8 @@ class Weaving:
         Load steps of the weaving stage (about five, docs/method.md §6.3),
         or of the lifting stage.
     relaxation_steps:
-        Load steps of the ordinary-contact stage that follows.
+        Load steps of the ordinary-contact stage that follows (default 1;
+        with a ``drag`` there is none, and giving it is an error).
     tension:
         Axial tension of each fibre at the yarn's pull body, as a fraction
         of the fibre's axial stiffness E A (an axial strain; default 1e-4,
@@ -101,8 +102,8 @@ class Weaving:
         settling stage, faded out as (1 - s)^2 over a ``fading`` stage
         (``FADING_STEPS`` steps, the heddles gone) that takes the
         relaxation's place: its last step, at s = 1, has no drag, so its
-        state is the structure's own equilibrium (``relaxation_steps`` then
-        unused; why no relaxation stage follows: :meth:`stages`). A path
+        state is the structure's own equilibrium (no relaxation stage
+        follows, :meth:`stages` says why). A path
         through the instabilities where the heddles let go, where the
         contact loop otherwise alternates between two sets (twisted
         bundles). 0 (default): no drag, three stages.
@@ -224,12 +225,12 @@ class Weaving:
     DRAG_ABSOLUTE_SHARE = 0.01
 
     def __init__(self, fabric: Fabric, steps: int | None = None,
-                 relaxation_steps: int = 1, tension: float = 1e-4, contact=None, element=None,
-                 method: str | None = None, settling_steps: int = 16, amplitude: float = 0.55,
-                 drag: float = 0.0, lifting_drag: float = 0.0, viscous_fading: bool = False,
-                 drag_within_yarns: bool = False, newton_per_pass: int | None = None,
-                 pull: str = "yarn", preset: str | None = None, comm=MPI.COMM_WORLD,
-                 partition: str = "place"):
+                 relaxation_steps: int | None = None, tension: float = 1e-4, contact=None,
+                 element=None, method: str | None = None, settling_steps: int = 16,
+                 amplitude: float = 0.55, drag: float = 0.0, lifting_drag: float = 0.0,
+                 viscous_fading: bool = False, drag_within_yarns: bool = False,
+                 newton_per_pass: int | None = None, pull: str = "yarn",
+                 preset: str | None = None, comm=MPI.COMM_WORLD, partition: str = "place"):
         if not isinstance(fabric, Fabric):
             raise TypeError(f"Weaving: fabric must be a textile.fabric.Fabric, got "
                             f"{type(fabric).__name__}")
@@ -245,7 +246,8 @@ class Weaving:
             raise ValueError(f"Weaving: method must be one of {self.METHODS}, got {method!r}")
         self.method = method
         self.steps = _count(steps, "steps")
-        self.relaxation_steps = _count(relaxation_steps, "relaxation_steps")
+        self.relaxation_steps = _count(1 if relaxation_steps is None else relaxation_steps,
+                                       "relaxation_steps")
         self.settling_steps = _count(settling_steps, "settling_steps")
         if isinstance(amplitude, bool) or not isinstance(amplitude, numbers.Real) \
                 or not 0.3 < amplitude < 5:
@@ -267,6 +269,10 @@ class Weaving:
             raise ValueError(f"Weaving: pull must be one of {self.PULLS}, got {pull!r}")
         if not isinstance(viscous_fading, bool):
             raise TypeError(f"Weaving: viscous_fading is True or False, got {viscous_fading!r}")
+        if drag > 0 and relaxation_steps is not None:
+            raise ValueError("Weaving: relaxation_steps has no stage to count with a drag: the "
+                             "fading stage ends the weave (its last step is the relaxation); "
+                             "leave relaxation_steps out")
         if viscous_fading and not drag > 0:
             raise ValueError("Weaving: viscous_fading makes the fading stage's drag a viscosity; "
                              "it needs a drag > 0")

@@ -252,7 +252,7 @@ def _schema():
                     "free_length": (number(minimum=0.0), None),
                     "free_length_spacings": (number(minimum=0.0), None),
                     "elements_per_crossing": (integer(1), None), "order": (integer(1), 2)})
-    weaving = table({"steps": (integer(1), None), "relaxation_steps": (integer(1), 1),
+    weaving = table({"steps": (integer(1), None), "relaxation_steps": (integer(1), None),
                      "tension": (number(positive=True), 1e-4), "drag": (number(minimum=0), 0.0),
                      "lifting_drag": (number(minimum=0), 0.0),
                      "viscous_fading": (boolean, False),
@@ -767,7 +767,7 @@ class Scene:
                           order=d["order"])
 
     def weaving_options(self) -> dict:
-        w = self.data["weaving"] or {"steps": None, "relaxation_steps": 1, "tension": 1e-4,
+        w = self.data["weaving"] or {"steps": None, "relaxation_steps": None, "tension": 1e-4,
                                      "drag": 0.0, "lifting_drag": 0.0, "viscous_fading": False,
                                      "drag_within_yarns": False, "contact": None}
         return dict(steps=w["steps"] or self.preset()["weaving"]["steps"],
