@@ -221,6 +221,28 @@ def test_picture_frame_scene_is_the_api_test(woven_mono, tmp_path):
     assert os.path.getsize(tmp_path / "picture_frame.csv") > 0
 
 
+def test_test_table_reaches_the_sample_options(woven_mono, tmp_path):
+    """test.turning_ends and test.settle_drag reach the VirtualTest (held
+    end bodies on monofilaments, a drag through the settling): the shear's
+    quick variant gives Shear(...).run()'s curve with them; a wrong type is
+    named by its key."""
+    from textile.virtual_tests import Shear
+    woven = str(woven_mono / "woven.h5")
+    run_cli("run", "demos/scenes/fabric_shear.toml", "--output", str(tmp_path), *MONO,
+            "--set", "test.steps=2", "--set", f"test.woven={json.dumps(woven)}",
+            "--set", "test.turning_ends=false", "--set", "test.settle_drag=0.05")
+    s = summary(tmp_path)["tests"]["positive"]      # its first case: +0.2 spacing
+    ref = Shear(mono_fabric(), woven, 0.2 * mono_fabric().spacing[0], steps=2,
+                turning_ends=False, settle_drag=0.05, solver_options=dict(verbose=False)).run()
+    assert s["curve"]["y"] == pytest.approx(ref.curve.y, rel=1e-7, abs=1e-12)
+    data = scene_of("fabric_shear.toml")
+    data["test"]["turning_ends"] = "no"
+    refused(tmp_path, data, "scene.toml: test.turning_ends: must be true or false, got \"no\"")
+    data["test"]["turning_ends"] = True
+    data["test"]["settle_drag"] = -1
+    refused(tmp_path, data, "scene.toml: test.settle_drag: must be a number >= 0, got -1")
+
+
 def test_composite_bending_scene_is_the_api_test(woven_mono, tmp_path):
     """The composite bending's quick variant (2 steps) gives Bending's
     moments; matrix.junction_spacing reaches the Composite (3 R: one

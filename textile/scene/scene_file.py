@@ -263,7 +263,8 @@ def _schema():
                  "displacement": (number(nonzero=True), None),
                  "displacement_spacings": (number(nonzero=True), None),
                  "angle_deg": (number(nonzero=True), None),
-                 "pin": (string(("fibre", "yarn")), None)}
+                 "pin": (string(("fibre", "yarn")), None),
+                 "settle_drag": (number(minimum=0), None), "turning_ends": (boolean, None)}
     test = table(dict(test_keys, woven=(string(), None), contact=(contact, None),
                       cases=(tables(table(test_keys)), None)))
     matrix = table({"material": (string(), REQUIRED), "size": (number(positive=True), None),
@@ -353,12 +354,12 @@ KIND_TABLES = {"weave": {"fabric", "weaving"},
                "virtual_test": {"fabric", "weaving", "test", "matrix"},
                "fibres": {"fibres", "loads", "bodies", "contact", "drag", "stages"}}
 COMMON_TABLES = {"scene", "materials", "solver", "output"}
-#: the keys of each test type (besides type, name, steps, release_steps)
+#: the keys of each test type (besides those of every type, TEST_COMMON)
 TEST_ARGUMENTS = {"tension": {"strain": True, "ratio": False},
                   "shear": {"displacement": None, "displacement_spacings": None},
                   "bending": {"angle_deg": True}, "twisting": {"angle_deg": True},
                   "picture_frame": {"angle_deg": None, "displacement": None, "pin": False}}
-TEST_COMMON = {"type", "name", "steps", "release_steps"}
+TEST_COMMON = {"type", "name", "steps", "release_steps", "settle_drag", "turning_ends"}
 
 
 # -- reading ---------------------------------------------------------------------
@@ -907,7 +908,7 @@ class Scene:
             label = case["name"] or case["type"]
             args = dict(options, output=os.path.join(directory, label) if several
                         else directory)
-            for key in ("steps", "release_steps"):
+            for key in ("steps", "release_steps", "settle_drag", "turning_ends"):
                 if case[key] is not None:
                     args[key] = case[key]
             kind = case["type"]
