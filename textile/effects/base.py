@@ -177,6 +177,14 @@ class Effect:
             raise ValueError(f"{type(self).__name__} takes no stage options, got "
                              f"{sorted(options)}")
 
+    def configure_resumed(self, **options) -> None:
+        """A stage resumed from a saved state within it
+        (:meth:`textile.solver.stages.Stages.resume_stage`) gives the effect
+        its options again: an effect sets here those it does not save
+        (callables of s cannot be saved), and keeps what its
+        :meth:`load_state` restored (history, and the options that shape
+        it). Default: nothing, the effect saved all it needs."""
+
     # -- load-step protocol (docs/method.md §9.2) ------------------------
     def prepare(self, model) -> None:
         """Start of a load-step attempt, at the predicted state: set up what

@@ -932,7 +932,13 @@ class FibreContact(Effect):
             out.update(woven_fibre_yarn=np.asarray(self._woven_arrays["fibre_yarn"]),
                        woven_yarn_above=np.asarray(self._woven_arrays["yarn_above"]))
         out.update(weaving_done=np.int64(self._weaving_done),
-                   friction_on=np.int64(self._friction_on))
+                   friction_on=np.int64(self._friction_on),
+                   # a stage's options that shape the rest of it (a state
+                   # saved within the stage goes on with them)
+                   update_tolerance=np.float64(self.options.update_tolerance),
+                   make_up=np.int64(self._make_up))
+        if self._make_up_reference is not None:
+            out["make_up_reference"] = np.asarray(self._make_up_reference)
         return out
 
     def check_state(self, model, data: dict) -> None:
@@ -952,7 +958,8 @@ class FibreContact(Effect):
     def load_state(self, model, data: dict) -> None:
         """Restore what save_state wrote: this rank's elements (its owned
         range, whatever the partition that saved them), evaluated at the
-        loaded unknowns, as the committed set; mode and order."""
+        loaded unknowns, as the committed set; mode and order; the stage's
+        loop tolerance and penetrations to make up."""
         self.check_state(model, data)
         mode = self.MODES[int(data["mode"])]
         if mode in ("weaving", "within_yarns"):
@@ -961,6 +968,12 @@ class FibreContact(Effect):
         else:
             self.configure(mode=mode)
         self._reset_normals = bool(data["reset_normals"])
+        if "update_tolerance" in data:
+            self.options = dataclasses.replace(
+                self.options, update_tolerance=float(data["update_tolerance"]))
+        self._make_up = bool(data.get("make_up", False))
+        self._make_up_reference = np.array(data["make_up_reference"]) \
+            if "make_up_reference" in data else None
         self._weaving_done = bool(data.get("weaving_done", False))
         self._friction_on = bool(data.get("friction_on", True))
         if "woven_fibre_yarn" in data:

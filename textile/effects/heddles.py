@@ -114,6 +114,11 @@ class Heddles(Effect):
                 raise ValueError(f"Heddles: lift must be in [0, 1], got {lift!r}")
             self.lift = lift if callable(lift) else float(lift)
 
+    def configure_resumed(self, **options) -> None:
+        """Resumed within a stage: its stiffness and lift again (nothing of
+        them is saved; they hold no history)."""
+        self.configure(**options)
+
     def _value(self, v, s: float, name: str) -> float:
         if not callable(v):
             return v

@@ -125,6 +125,12 @@ class ViscousDrag(Effect):
             self.step = None if step is None else float(step)
         self._accepted = 0.0
 
+    def configure_resumed(self, **options) -> None:
+        """Resumed within a stage: its coefficient and step again (nothing
+        of them is saved); the last accepted state and load factor are the
+        loaded ones (prepare)."""
+        self.configure(**options)
+
     def _c(self, s: float) -> float:
         c = _coefficient(self.coefficient(s)) if callable(self.coefficient) \
             else self.coefficient

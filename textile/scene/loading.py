@@ -287,11 +287,12 @@ class Stage:
                                  f"{allowed if allowed else 'none'}")
 
     def apply(self, effects: bool = True) -> bool:
-        """Set the targets and releases of the stage's handles, and (with
-        ``effects``) the effects' options; returns True when a release
-        changes the set of prescribed unknowns. A stage resumed from a saved
-        state applies its handles again (the callables of s are not saved)
-        but not its effect options (the effects saved theirs)."""
+        """Set the targets and releases of the stage's handles, and the
+        effects' options; returns True when a release changes the set of
+        prescribed unknowns. ``effects=False``: a stage resumed from a
+        saved state within it applies its handles again (the callables of
+        s are not saved) and gives the effects its options through
+        ``Effect.configure_resumed`` (they keep what they saved)."""
         for h, target in self.ramp.items():
             if not isinstance(h, Handle):
                 raise TypeError(f"Stage {self.name!r}: ramp keys must be handles (what "
@@ -304,6 +305,6 @@ class Stage:
             if not isinstance(h, Handle):
                 raise TypeError(f"Stage {self.name!r}: release items must be handles, got {h!r}")
             h.schedule.release(h)
-        for effect, options in (self.effects.items() if effects else ()):
-            effect.configure(**options)
+        for effect, options in self.effects.items():
+            (effect.configure if effects else effect.configure_resumed)(**options)
         return bool(self.release)

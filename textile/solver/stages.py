@@ -76,8 +76,9 @@ class Stages(Stepping):
 
     def resume_stage(self, stage: Stage) -> list[StepRecord]:
         """Go on with the stage a saved state stopped in (see resume): its
-        handles again (the callables of s are not saved), not its effect
-        options (the effects saved theirs), its solver options."""
+        handles again (the callables of s are not saved), its effect options
+        through ``Effect.configure_resumed`` (what an effect saved stays),
+        its solver options."""
         m = self.model
         before = [s.snapshot() for s in m.schedules()]
         stage.apply(effects=False)
