@@ -157,6 +157,9 @@ def test_bad_weaving_options():
     fading = viscous.stages()[2]
     assert fading.name == "fading"
     assert fading.effects[viscous.viscous_drag]["step"] == 1.0 / Weaving.FADING_STEPS
+    # a cut step drags harder: the stage may cut below the run's min_step
+    assert fading.solver["min_step"] == Weaving.VISCOUS_FADING_MIN_STEP
+    assert "min_step" not in Weaving(bundles, drag=0.1, comm=MPI.COMM_SELF).stages()[2].solver
     with pytest.raises(ValueError, match="pull must be one of"):
         Weaving(bundles, pull="fibres", comm=MPI.COMM_SELF)
     for n in (-1, 2.5):

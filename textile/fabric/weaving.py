@@ -115,7 +115,8 @@ class Weaving:
     viscous_fading:
         Lifting with a ``drag``: in the fading stage the drag is a
         viscosity (:class:`~textile.effects.ViscousDrag`'s ``step``): a
-        step cut after a failed attempt drags harder. Default False. The
+        step cut after a failed attempt drags harder, and the stage may cut
+        down to ``VISCOUS_FADING_MIN_STEP``. Default False. The
         28-fibre 2 x 2 weave (amplitude 0.45) fades through with it and
         stops without it (benchmarks/README.md, "28-fibre bundles: a
         viscous fading").
@@ -217,6 +218,14 @@ class Weaving:
     #: twisted 7-fibre weave's (1 - s)^2 fade took 40-75 Newton iterations
     #: a step at first with 4 (benchmarks/README.md, "Twisted bundles")
     FADING_STEPS = 4
+    #: the fading stage's smallest step with ``viscous_fading``: a cut step
+    #: drags harder there (a viscosity over the step), so a shorter one
+    #: always moves the state less and the stage may cut far below the
+    #: run's min_step; the 6 x 6 2/2 twill of 7-fibre bundles cuts to
+    #: 1.2e-5 near s = 0.998 and stopped there at the default 1e-4
+    #: (benchmarks/README.md, "A weave resumed within its fading; the 6 x 6
+    #: twill of 7-fibre bundles woven")
+    VISCOUS_FADING_MIN_STEP = 1e-6
     #: with ``drag_within_yarns``, the share of the drag on each node's own
     #: motion (ViscousDrag's absolute_share): small, so that the yarns'
     #: long modes settle under their tension while the drag holds the
@@ -408,7 +417,9 @@ class Weaving:
                                               if self.viscous_fading else None)},
                        solver=dict(relaxation.solver, initial_step=1.0 / self.FADING_STEPS,
                                    max_step=1.0 / self.FADING_STEPS,
-                                   regrow_after=self.REGROW_AFTER))
+                                   regrow_after=self.REGROW_AFTER,
+                                   **({"min_step": self.VISCOUS_FADING_MIN_STEP}
+                                      if self.viscous_fading else {})))
         return [lifting, settling, fading]
 
     def output(self, directory: str, **options) -> Output:
