@@ -960,6 +960,12 @@ class FibreContact(Effect):
         range, whatever the partition that saved them), evaluated at the
         loaded unknowns, as the committed set; mode and order; the stage's
         loop tolerance and penetrations to make up."""
+        self._load(model, data, stage_options=True)
+
+    def _load(self, model, data: dict, stage_options: bool) -> None:
+        """load_state's work; ``stage_options`` False (a new scene from saved
+        fibres): the scene keeps its own loop tolerance and makes up
+        nothing of the saved stage's."""
         self.check_state(model, data)
         mode = self.MODES[int(data["mode"])]
         if mode in ("weaving", "within_yarns"):
@@ -968,12 +974,13 @@ class FibreContact(Effect):
         else:
             self.configure(mode=mode)
         self._reset_normals = bool(data["reset_normals"])
-        if "update_tolerance" in data:
+        if stage_options and "update_tolerance" in data:
             self.options = dataclasses.replace(
                 self.options, update_tolerance=float(data["update_tolerance"]))
-        self._make_up = bool(data.get("make_up", False))
-        self._make_up_reference = np.array(data["make_up_reference"]) \
-            if "make_up_reference" in data else None
+        if stage_options:
+            self._make_up = bool(data.get("make_up", False))
+            self._make_up_reference = np.array(data["make_up_reference"]) \
+                if "make_up_reference" in data else None
         self._weaving_done = bool(data.get("weaving_done", False))
         self._friction_on = bool(data.get("friction_on", True))
         if "woven_fibre_yarn" in data:
@@ -1029,9 +1036,10 @@ class FibreContact(Effect):
 
     def load_fibres(self, model, data: dict) -> None:
         """A new scene starts from saved fibres (textile.load_fibres): take
-        their contact history if the file has one, else start afresh."""
+        their contact history if the file has one (not its stage's loop
+        tolerance nor make-up: the new scene's own), else start afresh."""
         if data:
-            self.load_state(model, data)
+            self._load(model, data, stage_options=False)
 
     # -- reporting ----------------------------------------------------------------
     def _statistics(self, model) -> None:
