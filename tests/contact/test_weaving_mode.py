@@ -180,3 +180,14 @@ def test_update_tolerance_is_a_stage_option():
     for bad in (0.0, -1.0, float("nan"), True, "1e-2"):
         with pytest.raises(ValueError, match="update_tolerance must be a number > 0"):
             contact.configure(update_tolerance=bad)
+    # a callable of the stage's load factor (a drag's fading: its path loose,
+    # its last step as the relaxation)
+    contact.configure(update_tolerance=lambda s: 1e-3 if s >= 1 else 1e-2)
+    assert contact.update_tolerance(0.5) == 1e-2
+    assert contact.update_tolerance(1.0) == 1e-3
+    # a bad schedule is named when the stage is configured, not mid-run
+    for bad in (lambda s: 0.0, lambda s: "1e-2", lambda s: 1e-2 if s < 1 else float("nan")):
+        with pytest.raises(ValueError, match="update_tolerance must be a number > 0"):
+            contact.configure(update_tolerance=bad)
+    contact.configure(update_tolerance=2e-3)    # a number again: the schedule gone
+    assert contact.update_tolerance(0.5) == 2e-3

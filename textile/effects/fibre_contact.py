@@ -210,6 +210,15 @@ def _real(v) -> bool:
     return not isinstance(v, bool) and isinstance(v, numbers.Real) and math.isfinite(v)
 
 
+def _loop_tolerance(v) -> float:
+    """The stage option update_tolerance's value (a number > 0), or a
+    ValueError."""
+    if not _real(v) or not v > 0:
+        raise ValueError(f"FibreContact: update_tolerance must be a number > 0 (or a callable "
+                         f"of the stage's load factor giving one), got {v!r}")
+    return float(v)
+
+
 def _pair(options, name: str, expected: str) -> tuple[float, float]:
     """The two finite numbers of the (low, high) option ``name``, or a
     ValueError naming it."""
@@ -326,11 +335,12 @@ class FibreContact(Effect):
         self._friction_on = True     # the stage option friction
         self._make_up = False        # the stage option make_up_penetrations
         self._make_up_reference = None  # ... its stage's starting positions
+        self._tolerance_schedule = None  # the stage option update_tolerance, a callable of s
 
     # -- stage options ---------------------------------------------------------
     def configure(self, mode: str | None = None, fibre_yarn=None, yarn_above=None,
                   friction: bool | None = None, make_up_penetrations: bool | None = None,
-                  update_tolerance: float | None = None, **unknown) -> None:
+                  update_tolerance=None, **unknown) -> None:
         """Stage options: ``mode="ordinary"``, or ``mode="weaving"`` with
         ``fibre_yarn`` (yarn of each fibre, in the model's fibre order) and
         ``yarn_above`` ((yarns, yarns): +1 if yarn a lies above yarn b at
@@ -367,22 +377,26 @@ class FibreContact(Effect):
         bent around each other at a crossing: 0.44 R found at once), and the
         relaxation would take that jump in one step.
 
-        ``update_tolerance`` (a number > 0): the contact loop's tolerance
+        ``update_tolerance`` (a number > 0, or a callable of the stage's
+        load factor s giving one): the contact loop's tolerance
         (``ContactOptions.update_tolerance``) from this stage on; a stage
-        whose path is artificial (the lifting weave's settling) may take a
-        looser one than the stages whose states are answers."""
+        whose path is artificial (the lifting weave's settling, its drag's
+        fading before the last step) may take a looser one than the states
+        that are answers. A callable is evaluated at each update, at the
+        load factor of the step being solved."""
         if unknown:
             raise ValueError(f"FibreContact.configure: unknown option(s) {sorted(unknown)}; "
                              f"allowed: mode, fibre_yarn, yarn_above, friction, "
                              f"make_up_penetrations, update_tolerance")
-        if update_tolerance is not None:
-            if isinstance(update_tolerance, bool) or not _real(update_tolerance) \
-                    or not update_tolerance > 0:
-                raise ValueError(f"FibreContact: update_tolerance must be a number > 0, got "
-                                 f"{update_tolerance!r}")
+        if callable(update_tolerance):
+            for s in (0.0, 1.0):    # a bad schedule named now, not mid-run
+                _loop_tolerance(update_tolerance(s))
+            self._tolerance_schedule = update_tolerance
+        elif update_tolerance is not None:
             # a copy: the options a user passed stay theirs
-            self.options = dataclasses.replace(self.options,
-                                               update_tolerance=float(update_tolerance))
+            self.options = dataclasses.replace(
+                self.options, update_tolerance=_loop_tolerance(update_tolerance))
+            self._tolerance_schedule = None
         if friction is not None and not isinstance(friction, (bool, np.bool_)):
             raise ValueError(f"FibreContact: friction must be True or False, got {friction!r}")
         if make_up_penetrations is not None:
@@ -667,7 +681,7 @@ class FibreContact(Effect):
         diff, size = float(np.sum(change ** 2)), float(np.sum(before ** 2))
         # the change relative to the forces, in units of the tolerance
         # (contacts appearing where there was no force: infinitely large)
-        self._change = (math.sqrt(diff / size) / o.update_tolerance if size > 0 else
+        self._change = (math.sqrt(diff / size) / self.update_tolerance() if size > 0 else
                         (math.inf if diff > 0 else 0.0))
         return self._change > 1.0
 
@@ -814,6 +828,22 @@ class FibreContact(Effect):
         self._first_solve = False
         return changed
 
+    def update_tolerance(self, s: float | None = None) -> float:
+        """The contact loop's tolerance at the stage's load factor ``s``
+        (default: the model's; the stage option ``update_tolerance``,
+        :meth:`configure`)."""
+        if self._tolerance_schedule is None:
+            return self.options.update_tolerance
+        return _loop_tolerance(self._tolerance_schedule(
+            self.model.load_factor if s is None else s))
+
+    def configure_resumed(self, update_tolerance=None, **options) -> None:
+        """Resumed within a stage: a loop tolerance that is a callable of s
+        again (it cannot be saved: the saved value is its value where the
+        state was saved); the rest of the stage's options is saved."""
+        if callable(update_tolerance):
+            self._tolerance_schedule = update_tolerance
+
     def update_change(self) -> float:
         """The contact forces' change at the last update relative to their
         size, in units of ``update_tolerance`` (inf: new contact forces, or
@@ -935,7 +965,7 @@ class FibreContact(Effect):
                    friction_on=np.int64(self._friction_on),
                    # a stage's options that shape the rest of it (a state
                    # saved within the stage goes on with them)
-                   update_tolerance=np.float64(self.options.update_tolerance),
+                   update_tolerance=np.float64(self.update_tolerance()),
                    make_up=np.int64(self._make_up))
         if self._make_up_reference is not None:
             out["make_up_reference"] = np.asarray(self._make_up_reference)
@@ -977,6 +1007,7 @@ class FibreContact(Effect):
         if stage_options and "update_tolerance" in data:
             self.options = dataclasses.replace(
                 self.options, update_tolerance=float(data["update_tolerance"]))
+            self._tolerance_schedule = None
         if stage_options:
             self._make_up = bool(data.get("make_up", False))
             self._make_up_reference = np.array(data["make_up_reference"]) \

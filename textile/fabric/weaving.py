@@ -190,12 +190,15 @@ class Weaving:
     #: them (their fibres bend as the heddles ask) and soft enough not to
     #: dominate the tangent (30: each node's spring a few times its beam's)
     HEDDLE_STIFFNESS = 30.0
-    #: the contact loop's tolerance while the heddles let go: the settling
-    #: path is artificial, only the relaxation's state is an answer; its
+    #: the contact loop's tolerance on the lifting weave's artificial path,
+    #: the settling (the heddles letting go) and a drag's fading before its
+    #: last step: only the woven state is an answer (the relaxation, or the
+    #: fading's drag-free last step, with the contact's own tolerance). The
     #: passes converge linearly as the crossings' normals turn, so 1e-2
     #: takes about half the passes of the default 1e-3 for the same woven
-    #: state (measured: benchmarks/README.md, "Bundles")
-    SETTLING_UPDATE_TOLERANCE = 1e-2
+    #: state (measured: benchmarks/README.md, "Bundles"; in the fading,
+    #: "A looser contact loop on the fading's path")
+    PATH_UPDATE_TOLERANCE = 1e-2
     #: Newton iterations between contact updates in the lifting weave's
     #: stages (SolverOptions.newton_per_pass): the passes' frozen normals
     #: are a fixed point that each solve need not settle first; 3 gave the
@@ -308,6 +311,7 @@ class Weaving:
                                     yarn_friction=fabric.yarn_friction())
         self.model.add_effect(self.contact)
         self._update_tolerance = self.contact.options.update_tolerance
+        self._path_tolerance = max(self.PATH_UPDATE_TOLERANCE, self._update_tolerance)
         self.heddles = None
         if method == "lifting":
             height = 0.5 * (fabric.yarn(0).height + fabric.yarn(fabric.num_yarns - 1).height)
@@ -379,8 +383,7 @@ class Weaving:
                                         **capped)),
                       Stage("settling", effects={
                           self.contact: dict(mode="ordinary", make_up_penetrations=True,
-                                             update_tolerance=max(self.SETTLING_UPDATE_TOLERANCE,
-                                                                  self._update_tolerance)),
+                                             update_tolerance=self._path_tolerance),
                           self.heddles: dict(lift=1.0,
                                              stiffness=lambda s: stiffness * (1 - s) ** 2)},
                             solver=dict(initial_step=1.0 / self.settling_steps,
@@ -405,12 +408,15 @@ class Weaving:
         ``fading`` stage that replaces the relaxation: :meth:`stages`); with
         only a ``lifting_drag``, off in the settling and the relaxation."""
         lifting, settling, relaxation = stages
-        c = self.drag
+        c, path, woven = self.drag, self._path_tolerance, self._update_tolerance
         lifting.effects[self.viscous_drag] = dict(coefficient=self.lifting_drag)
         settling.effects[self.viscous_drag] = dict(coefficient=c)
         if c == 0:
             return [lifting, settling, relaxation]
         fading = Stage("fading", effects={**relaxation.effects,
+                                          # the path loosely, the last step as the relaxation
+                                          self.contact: dict(update_tolerance=lambda s: (
+                                              woven if s >= 1.0 - 1e-12 else path)),
                                           self.viscous_drag: dict(
                                               coefficient=lambda s: c * (1 - s) ** 2,
                                               step=1.0 / self.FADING_STEPS
