@@ -383,7 +383,8 @@ class FibreContact(Effect):
         whose path is artificial (the lifting weave's settling, its drag's
         fading before the last step) may take a looser one than the states
         that are answers. A callable is evaluated at each update, at the
-        load factor of the step being solved."""
+        load factor of the step being solved; the stages after its own go
+        on with its value at s = 1."""
         if unknown:
             raise ValueError(f"FibreContact.configure: unknown option(s) {sorted(unknown)}; "
                              f"allowed: mode, fibre_yarn, yarn_above, friction, "
@@ -856,6 +857,12 @@ class FibreContact(Effect):
             self._weaving_done = True  # a later weaving stage has nothing to make up
         if self._make_up and model.load_factor >= 1.0 - 1e-12:
             self._make_up, self._make_up_reference = False, None   # made up
+        if self._tolerance_schedule is not None and model.load_factor >= 1.0 - 1e-12:
+            # a schedule of its stage's s: the stages after it go on with
+            # its value at the end (unless they set their own)
+            self.options = dataclasses.replace(self.options,
+                                               update_tolerance=self.update_tolerance(1.0))
+            self._tolerance_schedule = None
         self.set.commit()
         self._committed = self.set.copy()
         # couplings that no element comes near at the converged state (the

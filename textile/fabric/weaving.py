@@ -103,7 +103,9 @@ class Weaving:
         (``FADING_STEPS`` steps, the heddles gone) that takes the
         relaxation's place: its last step, at s = 1, has no drag, so its
         state is the structure's own equilibrium (no relaxation stage
-        follows, :meth:`stages` says why). A path
+        follows, :meth:`stages` says why); the fading's steps before
+        the last have the settling's loose contact loop
+        (``PATH_UPDATE_TOLERANCE``). A path
         through the instabilities where the heddles let go, where the
         contact loop otherwise alternates between two sets (twisted
         bundles). 0 (default): no drag, three stages.
