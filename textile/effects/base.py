@@ -20,6 +20,13 @@ from petsc4py import PETSc
 SAME_SCENE_RTOL = 1e-12
 
 
+def stage_ended(s: float) -> bool:
+    """Is load factor ``s`` its stage's end (s = 1, up to the round-off of
+    summed steps)? The one test for it (effects' commits, stage schedules,
+    the output's last-step pictures)."""
+    return s >= 1.0 - 1e-12
+
+
 @dataclass
 class State:
     """What an effect sees during one evaluation.

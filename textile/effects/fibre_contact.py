@@ -48,7 +48,7 @@ from mpi4py import MPI
 
 from .. import _cpp
 from ..options import Options
-from .base import Effect, State
+from .base import Effect, State, stage_ended
 from .detection_view import DetectionView
 
 
@@ -853,11 +853,12 @@ class FibreContact(Effect):
 
     def commit(self, model) -> None:
         self._reset_normals = False
-        if self.mode == "weaving" and model.load_factor >= 1.0 - 1e-12:
+        ended = stage_ended(model.load_factor)
+        if self.mode == "weaving" and ended:
             self._weaving_done = True  # a later weaving stage has nothing to make up
-        if self._make_up and model.load_factor >= 1.0 - 1e-12:
+        if self._make_up and ended:
             self._make_up, self._make_up_reference = False, None   # made up
-        if self._tolerance_schedule is not None and model.load_factor >= 1.0 - 1e-12:
+        if self._tolerance_schedule is not None and ended:
             # a schedule of its stage's s: the stages after it go on with
             # its value at the end (unless they set their own)
             self.options = dataclasses.replace(self.options,

@@ -36,6 +36,7 @@ from mpi4py import MPI
 
 from . import measures
 from .. import presets
+from ..effects.base import stage_ended
 from ..effects.fibre_contact import FibreContact
 from ..effects.heddles import Heddles
 from ..effects.viscous_drag import ViscousDrag
@@ -418,7 +419,7 @@ class Weaving:
         fading = Stage("fading", effects={**relaxation.effects,
                                           # the path loosely, the last step as the relaxation
                                           self.contact: dict(update_tolerance=lambda s: (
-                                              woven if s >= 1.0 - 1e-12 else path)),
+                                              woven if stage_ended(s) else path)),
                                           self.viscous_drag: dict(
                                               coefficient=lambda s: c * (1 - s) ** 2,
                                               step=1.0 / self.FADING_STEPS

@@ -44,6 +44,7 @@ from mpi4py import MPI
 from ..beam.fibre_loads import (FIGURES, element_loads, fibre_maxima, gathered_element_fields,
                                 top_fibres)
 from . import PVDSeries, ResultsLog, SceneSeries, write_fibres_vtu
+from ..effects.base import stage_ended
 
 _VOIGT = ("11", "22", "33", "23", "13", "12")
 # arrays Output writes itself: a fibre_data array may not take their names
@@ -168,7 +169,7 @@ class Output:
         model = solver.model
         self._open(model)
         extra = self.extra(model) if self.extra else {}
-        stage_end = record.load_factor >= 1.0 - 1e-12
+        stage_end = stage_ended(record.load_factor)
         # a stage's last step is written whenever there are pictures: they
         # are drawn from it
         write_vtu = record.step % self.every == 0 or (bool(self.pictures) and stage_end)
