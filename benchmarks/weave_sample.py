@@ -20,7 +20,9 @@ sample with the drags of ``--weaving`` (Weaving's options) and
 ``--solver '{"max_it": 50}'`` (benchmarks/README.md, "The fading's last
 step is the relaxation"); their woven states go to
 ``output/weave_sample_<pattern>_<fibres>_<packing>.h5``, the flat-row
-sample's keep their name.
+sample's keep their name. Each woven state's pictures (the sample in 3D
+and from above, cuts across warp and weft) go to a directory of the
+state's name; ``--draw-only`` draws them again from the saved states.
 
 The figures of benchmarks/README.md (2 ranks): the plain weave with
 ``--patterns plain --solver '{"low_rank_tolerance": 1e-8}'`` (since
@@ -58,15 +60,35 @@ def woven_name(pattern: str, fibres: int, packing: str) -> str:
     return f"weave_sample_{name}.h5"
 
 
+def sample_fabric(pattern: str, fibres: int, yarns: int, elements: int, spacing: float,
+                  packing: str, free_length: float | None = None) -> Fabric:
+    yarn = Yarn(fibres, R, MAT, packing=packing)
+    return Fabric(yarn, num_warp=yarns, num_weft=yarns, spacing=spacing * yarn.width,
+                  pattern=pattern, elements_per_crossing=elements,
+                  free_length=None if free_length is None
+                  else free_length * spacing * yarn.width)
+
+
+def draw_woven(fabric: Fabric, state: str) -> None:
+    """sample.png, sample_top.png and the cuts across warp and weft
+    (cut_warp.png, cut_weft.png: the yarns' sections, Durville's Fig. 10) of
+    the woven state ``state``, in a directory of the state's name; a picture
+    that fails is reported, never fatal (rank 0 only)."""
+    from textile.io import draw_state_pictures, yarn_axes
+
+    directory = os.path.splitext(state)[0]
+    axes = yarn_axes([fabric.yarn_direction(k) for k in range(fabric.num_yarns)])
+    drawn, errors = draw_state_pictures(state, directory, axes, unit="m")
+    print(f"pictures in {directory}: {', '.join(sorted(drawn))}")
+    for e in errors:
+        print(f"  picture failed: {e}")
+
+
 def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, packing: str,
           solver_options: dict, comm, weaving_steps: int = 5,
           free_length: float | None = None, crossing_patch: int = 2,
           weaving_options: dict | None = None) -> dict:
-    yarn = Yarn(fibres, R, MAT, packing=packing)
-    fabric = Fabric(yarn, num_warp=yarns, num_weft=yarns, spacing=spacing * yarn.width,
-                    pattern=pattern, elements_per_crossing=elements,
-                    free_length=None if free_length is None
-                    else free_length * spacing * yarn.width)
+    fabric = sample_fabric(pattern, fibres, yarns, elements, spacing, packing, free_length)
     weaving = Weaving(fabric, steps=weaving_steps, comm=comm,
                       contact=dict(crossing_patch=crossing_patch), **(weaving_options or {}))
     model = weaving.model
@@ -88,8 +110,10 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
                   newton_iterations=h.newton_iterations, attempts=h.attempts,
                   updates=h.updates, wall_seconds=h.wall_time) for h in solver.history]
     summary = weaving.summary() if not error else {}
-    textile.save_state(model, os.path.join(OUT, woven_name(pattern, fibres, packing)), solver,
-                       fibre_data={"yarn": fabric.fibre_yarn})
+    state = os.path.join(OUT, woven_name(pattern, fibres, packing))
+    textile.save_state(model, state, solver, fibre_data={"yarn": fabric.fibre_yarn})
+    if comm.rank == 0:
+        draw_woven(fabric, state)
     return dict(pattern=pattern, yarns=yarns, fibres_per_yarn=fibres, packing=packing,
                 free_length=fabric.free_length / fabric.spacing[0],
                 spacing_in_widths=spacing, weaving_steps=weaving_steps,
@@ -144,8 +168,18 @@ def main():
     parser.add_argument("--weaving", type=json.loads, default={},
                         help='Weaving options as JSON, e.g. \'{"drag": 0.1, "lifting_drag": '
                              '0.1, "viscous_fading": true}\'')
+    parser.add_argument("--draw-only", action="store_true",
+                        help="draw the pictures of the woven states these options saved "
+                             "before, without weaving")
     args = parser.parse_args()
     comm = MPI.COMM_WORLD
+    if args.draw_only:
+        if comm.rank == 0:
+            for pattern in args.patterns:
+                draw_woven(sample_fabric(pattern, args.fibres, args.yarns, args.elements,
+                                         args.spacing, args.packing, args.free_length),
+                           os.path.join(OUT, woven_name(pattern, args.fibres, args.packing)))
+        return
     os.makedirs(OUT, exist_ok=True)
     if comm.rank == 0:
         print(runtime.describe())

@@ -29,7 +29,7 @@ from .beam.fibre import Fibre, arc_fibre, straight_fibre  # noqa: E402
 from .beam.material import Material  # noqa: E402
 from .scene.model import Model  # noqa: E402
 from .io.state_file import (SceneMismatchError, StateFileError, load_fibres,  # noqa: E402
-                            load_state, save_state, saved_configuration)
+                            load_state, save_state, saved_configuration, saved_fibres)
 from .scene.loading import Stage  # noqa: E402
 from .io.output import Output  # noqa: E402
 from .scene.rigid_body import RigidBody  # noqa: E402
@@ -37,6 +37,6 @@ from .solver import ConvergenceError, Solver, SolverOptions  # noqa: E402
 
 __all__ = ["BeamElement", "Fibre", "Material", "Model", "Solver", "SolverOptions",
            "ConvergenceError", "GeometryError", "Output", "RigidBody", "Stage", "save_state",
-           "load_state", "load_fibres", "saved_configuration",
+           "load_state", "load_fibres", "saved_configuration", "saved_fibres",
            "StateFileError", "SceneMismatchError", "straight_fibre", "arc_fibre", "PETSc", "_cpp"]
 __version__ = "0.1.0"

@@ -129,3 +129,27 @@ def test_pictures_of_any_written_step_after_the_run(tmp_path, no_vtk):
     assert not errors and set(drawn) == {"sample_first.png", "sample_top_first.png",
                                          "cut_first.png"}
     assert all((tmp_path / name).stat().st_size > 1000 for name in drawn)
+
+
+@pytest.mark.filterwarnings("ignore::textile.io.render.RenderingWarning")
+def test_pictures_of_a_saved_state(tmp_path, no_vtk):
+    """A saved state's fibres read back as drawn (two fibres of unequal
+    node counts: the offsets, not a fixed length, split them), and its
+    pictures drawn from the file alone."""
+    import numpy as np
+    from mpi4py import MPI
+    mat = textile.Material(1.0e9, 0.3)
+    model = textile.Model([textile.straight_fibre([0, 0, 0], [1, 0, 0], 0.01, mat, 2),
+                           textile.straight_fibre([0, 0.1, 0], [0, 1.1, 0], 0.02, mat, 3)],
+                          comm=MPI.COMM_SELF)
+    path = str(tmp_path / "state.h5")
+    textile.save_state(model, path, fibre_data={"yarn": [3, 5]})
+    lines, radii, data = textile.saved_fibres(path)
+    assert [len(x) for x in lines] == [5, 7]
+    np.testing.assert_array_equal(lines[1], model.centreline(1))
+    assert radii.tolist() == [0.01, 0.02] and data["yarn"].tolist() == [3, 5]
+    axes = sample_pictures.yarn_axes({3: "warp", 5: "weft"})
+    drawn, errors = sample_pictures.draw_state_pictures(path, str(tmp_path / "pictures"), axes)
+    assert not errors and set(drawn) == {"sample.png", "sample_top.png", "cut_warp.png",
+                                         "cut_weft.png"}
+    assert all((tmp_path / "pictures" / name).stat().st_size > 1000 for name in drawn)

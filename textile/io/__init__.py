@@ -26,7 +26,8 @@ from textile.io.vtu import write_fibres_vtu
 _LAZY = {"plot_curve": "plots", "plot_fibres": "plots",
          "RenderingUnavailable": "render", "RenderingWarning": "render",
          "render_cross_section_png": "render", "render_fibres_png": "render",
-         "sketch_fibres_png": "render", "fabric_labels": "sample_pictures"}
+         "sketch_fibres_png": "render", "fabric_labels": "sample_pictures",
+         "draw_state_pictures": "sample_pictures", "yarn_axes": "sample_pictures"}
 
 __all__ = ["PVDSeries", "ResultsLog", "SceneSeries", "write_fibres_vtu", "write_pvd", *_LAZY]
 

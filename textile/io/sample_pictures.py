@@ -33,7 +33,8 @@ import numpy as np
 from textile.io.render import (RenderingUnavailable, RenderingWarning, render_cross_section_png,
                                render_fibres_png, sketch_fibres_png)
 
-__all__ = ["CutPlane", "cut_planes", "draw_sample_pictures", "draw_vtu_pictures",
+__all__ = ["CutPlane", "cut_planes", "draw_sample_pictures", "draw_state_pictures",
+           "draw_vtu_pictures",
            "fabric_labels", "read_fibres_vtu", "yarn_axes", "yarn_labels"]
 
 #: :mod:`textile.fabric`'s convention: warp yarns along x, weft yarns along y.
@@ -245,3 +246,18 @@ def draw_vtu_pictures(vtu: str, directory: str | None = None, axes: dict | None 
     lines, radii, yarn = read_fibres_vtu(vtu)
     return draw_sample_pictures(os.path.dirname(os.path.abspath(vtu)) if directory is None
                                 else directory, lines, radii, yarn, axes, suffix, size, unit)
+
+
+def draw_state_pictures(state: str, directory: str, axes: dict | None = None,
+                        suffix: str = "", size=(1600, 1000),
+                        unit: str | None = None) -> tuple[dict, list[str]]:
+    """:func:`draw_sample_pictures` of the fibres of a saved state
+    (:func:`textile.save_state`), in ``directory``; fibres coloured by the
+    state's ``yarn`` fibre data when it has one (``axes``:
+    :func:`yarn_axes` of the yarns' directions, for cuts across each)."""
+    from .state_file import saved_fibres
+
+    lines, radii, data = saved_fibres(state)
+    os.makedirs(directory, exist_ok=True)
+    return draw_sample_pictures(directory, lines, radii, data.get("yarn"), axes, suffix, size,
+                                unit)

@@ -427,6 +427,20 @@ def saved_configuration(path: str, comm=None) -> np.ndarray:
     return data["fibres"]["reference"] + data["fibres"]["unknowns"]
 
 
+def saved_fibres(path: str, comm=None) -> tuple[list[np.ndarray], np.ndarray, dict]:
+    """(centre lines, radius per fibre, {name: per-fibre data}) of a saved
+    state, read without a model: each centre line the (n, 3) current
+    positions of one fibre's nodes; the data are the ``fibre_data`` given to
+    :func:`save_state` (e.g. ``yarn``). Read as :func:`saved_configuration`."""
+    data = _read_local(path) if comm is None else _read(path, comm)
+    fibres = data["fibres"]
+    x0 = (fibres["reference"] + fibres["unknowns"])[:, :3]
+    first = np.asarray(fibres["first_node"], dtype=np.int64)    # num_fibres + 1 offsets
+    lines = [x0[a:b] for a, b in zip(first[:-1], first[1:])]
+    labels = {k: np.asarray(v) for k, v in fibres.get("data", {}).items()}
+    return lines, np.asarray(fibres["radius"], dtype=float), labels
+
+
 def _set_fields(model, values: dict, which: str = "unknowns", x=None) -> PETSc.Vec:
     """Put the matched saved arrays (``_field_values``) into x (default the
     model's), ghosts included."""
