@@ -22,7 +22,9 @@ step is the relaxation"); their woven states go to
 ``output/weave_sample_<pattern>_<fibres>_<packing>.h5``, the flat-row
 sample's keep their name. Each woven state's pictures (the sample in 3D
 and from above, cuts across warp and weft) go to a directory of the
-state's name; ``--draw-only`` draws them again from the saved states.
+state's name, with ``figures.json``: each yarn's section width and height
+at each crossing, the fibre curvature's distribution; ``--from-state``
+makes both again from the saved states, without weaving.
 
 The figures of benchmarks/README.md (2 ranks): the plain weave with
 ``--patterns plain --solver '{"low_rank_tolerance": 1e-8}'`` (since
@@ -40,11 +42,12 @@ import os
 import resource
 import time
 
+import numpy as np
 from mpi4py import MPI
 
 import textile
 from textile import runtime
-from textile.fabric import Fabric, Weaving, Yarn
+from textile.fabric import Fabric, Weaving, Yarn, measures
 
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "output")
 R = 0.1e-3
@@ -84,6 +87,44 @@ def draw_woven(fabric: Fabric, state: str) -> None:
         print(f"  picture failed: {e}")
 
 
+def woven_figures(fabric: Fabric, model, state: str) -> dict:
+    """Each yarn's section width and height at each of its crossings (the
+    lens shape), and the fibre curvature's distribution, of the current
+    state; written to figures.json beside the state's pictures (collective)."""
+    sections = measures.section_shapes(fabric, model)
+    kappa = measures.fibre_curvatures(model)
+    inner = kappa[kappa > 0]
+    out = dict(sections=sections,
+               curvature_per_m={f"p{q}": float(np.percentile(inner, q)) for q in (50, 90, 99)})
+    out["curvature_per_m"].update(mean=float(kappa.mean()), max=float(kappa.max()))
+    for name in ("warp", "weft"):
+        ratio = [x["height"] / x["width"] for x in sections if x["direction"] == name]
+        out[f"{name}_height_over_width"] = dict(min=float(min(ratio)), mean=float(np.mean(ratio)),
+                                                max=float(max(ratio)))
+    if model.comm.rank == 0:
+        directory = os.path.splitext(state)[0]
+        os.makedirs(directory, exist_ok=True)
+        with open(os.path.join(directory, "figures.json"), "w") as f:
+            json.dump(out, f, indent=1, default=float)
+        for name in ("warp", "weft"):
+            r = out[f"{name}_height_over_width"]
+            print(f"  {name} sections, height / width at the crossings: min {r['min']:.3f}, "
+                  f"mean {r['mean']:.3f}, max {r['max']:.3f}")
+        c = out["curvature_per_m"]
+        print(f"  fibre curvature [1/m]: median {c['p50']:.0f}, 90% {c['p90']:.0f}, "
+              f"99% {c['p99']:.0f}, max {c['max']:.0f}")
+    return out
+
+
+def from_state(fabric: Fabric, state: str, comm) -> None:
+    """The figures and pictures of a woven state saved before (collective)."""
+    model = textile.Model(fabric.fibres(), comm=comm)
+    textile.load_fibres(model, state)
+    woven_figures(fabric, model, state)
+    if comm.rank == 0:
+        draw_woven(fabric, state)
+
+
 def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, packing: str,
           solver_options: dict, comm, weaving_steps: int = 5,
           free_length: float | None = None, crossing_patch: int = 2,
@@ -112,6 +153,7 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
     summary = weaving.summary() if not error else {}
     state = os.path.join(OUT, woven_name(pattern, fibres, packing))
     textile.save_state(model, state, solver, fibre_data={"yarn": fabric.fibre_yarn})
+    figures = woven_figures(fabric, model, state) if not error else {}
     if comm.rank == 0:
         draw_woven(fabric, state)
     return dict(pattern=pattern, yarns=yarns, fibres_per_yarn=fibres, packing=packing,
@@ -120,7 +162,8 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
                 crossing_patch=crossing_patch, weaving_options=weaving_options or {},
                 stages=[st.name for st in weaving.stages()],
                 solver_options=solver_options, size=size, wall_seconds=wall,
-                counters=solver.counters, steps=steps, summary=summary, error=error)
+                counters=solver.counters, steps=steps, summary=summary, error=error,
+                **{k: v for k, v in figures.items() if k != "sections"})
 
 
 def run_key(r: dict) -> tuple:
@@ -168,17 +211,16 @@ def main():
     parser.add_argument("--weaving", type=json.loads, default={},
                         help='Weaving options as JSON, e.g. \'{"drag": 0.1, "lifting_drag": '
                              '0.1, "viscous_fading": true}\'')
-    parser.add_argument("--draw-only", action="store_true",
-                        help="draw the pictures of the woven states these options saved "
-                             "before, without weaving")
+    parser.add_argument("--from-state", action="store_true",
+                        help="no weaving: the figures (figures.json) and pictures of the woven "
+                             "states these options saved before")
     args = parser.parse_args()
     comm = MPI.COMM_WORLD
-    if args.draw_only:
-        if comm.rank == 0:
-            for pattern in args.patterns:
-                draw_woven(sample_fabric(pattern, args.fibres, args.yarns, args.elements,
-                                         args.spacing, args.packing, args.free_length),
-                           os.path.join(OUT, woven_name(pattern, args.fibres, args.packing)))
+    if args.from_state:
+        for pattern in args.patterns:
+            from_state(sample_fabric(pattern, args.fibres, args.yarns, args.elements,
+                                     args.spacing, args.packing, args.free_length),
+                       os.path.join(OUT, woven_name(pattern, args.fibres, args.packing)), comm)
         return
     os.makedirs(OUT, exist_ok=True)
     if comm.rank == 0:
