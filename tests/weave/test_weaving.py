@@ -199,7 +199,8 @@ def test_a_drag_is_faded_out_to_the_woven_state():
     # Newton guard (measured 398 iterations, 4 failed attempts, 2026-12-05;
     # 757 with the fading's path at the contact's own loop tolerance): 1.5 x
     assert solver.counters["newton_iterations"] <= 597
-    assert stages[2].solver["regrow_after"] == Weaving.REGROW_AFTER   # the fading regrows
+    # every stage regrows its steps after a cut (uncapped, no step is easy)
+    assert all(st.solver["regrow_after"] == Weaving.REGROW_AFTER for st in stages)
     # the default drag: on every node's own motion
     assert len(drag.pairs) == 0 and drag.absolute_share == 1
     plain = Weaving(Fabric(Yarn(3, R, MAT), spacing=20 * R, free_length=20 * R),

@@ -214,11 +214,12 @@ class Weaving:
     #: (SolverOptions.regrow_after); without it a stage went on at its
     #: hardest step's size (the 19-fibre weave: 613 Newton iterations, 512
     #: with it; benchmarks/README.md, "Steps that grow again after a cut").
-    #: The fading stage's uncapped steps (6-25 iterations) are not easy
-    #: either: it regrows there too (the 6 x 6 weave of 7-fibre bundles
-    #: fades to the end with it, and stopped at 0.998 without;
-    #: benchmarks/README.md, "A drag on the fibres' motion within their
-    #: yarn")
+    #: Uncapped steps (with a drag: 5-25 iterations) are not easy either:
+    #: every stage regrows (the 6 x 6 weave of 7-fibre bundles fades to the
+    #: end with it, and stopped at 0.998 without; benchmarks/README.md, "A
+    #: drag on the fibres' motion within their yarn"; the 6 x 6 sample of
+    #: 28-fibre bundles, cut to 8e-4 of its lifting at 0.9, went on at that
+    #: size: "The paper's sample of 28-fibre bundles")
     REGROW_AFTER = 3
     #: load steps of the stage that fades the drag out (``drag`` > 0): the
     #: twisted 7-fibre weave's (1 - s)^2 fade took 40-75 Newton iterations
@@ -376,8 +377,7 @@ class Weaving:
         README.md, "The fading's last step is the relaxation")."""
         if self.method == "lifting":
             stiffness, passes = self.HEDDLE_STIFFNESS, self.newton_per_pass
-            capped = dict(newton_per_pass=passes,
-                          regrow_after=self.REGROW_AFTER if passes else 0)
+            capped = dict(newton_per_pass=passes, regrow_after=self.REGROW_AFTER)
             stages = [Stage("lifting", effects={self.contact: weaving_mode(self.fabric,
                                                                            "within_yarns"),
                                                 self.heddles: dict(lift=lambda s: s,
