@@ -353,8 +353,10 @@ def test_wrong_type(tmp_path):
     assert options["drag"] == 0.1 and options["lifting_drag"] == 0.2
     assert "viscous_fading" not in options   # the default: Weaving's own
     data["weaving"]["viscous_fading"] = True
+    data["weaving"]["viscous_settling"] = True
     write_toml(tmp_path / "viscous.toml", data)
-    assert read_scene(str(tmp_path / "viscous.toml")).weaving_options()["viscous_fading"] is True
+    options = read_scene(str(tmp_path / "viscous.toml")).weaving_options()
+    assert options["viscous_fading"] is True and options["viscous_settling"] is True
     data["weaving"]["viscous_fading"] = 1
     refused(tmp_path, data, "scene.toml: weaving.viscous_fading: must be true or false, got 1")
     data["weaving"]["viscous_fading"] = True

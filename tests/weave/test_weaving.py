@@ -165,6 +165,16 @@ def test_bad_weaving_options():
     tolerance = fading.effects[viscous.contact]["update_tolerance"]
     assert tolerance(0.99) == Weaving.PATH_UPDATE_TOLERANCE
     assert tolerance(1.0) == viscous.contact.options.update_tolerance < tolerance(0.99)
+    # the settling's drag a viscosity on request only
+    assert viscous.stages()[1].effects[viscous.viscous_drag]["step"] is None
+    with pytest.raises(ValueError, match="viscous_settling .* needs a drag > 0"):
+        Weaving(bundles, lifting_drag=0.1, viscous_settling=True, comm=MPI.COMM_SELF)
+    with pytest.raises(TypeError, match="viscous_settling is True or False"):
+        Weaving(bundles, drag=0.1, viscous_settling="yes", comm=MPI.COMM_SELF)
+    settling = Weaving(bundles, drag=0.1, viscous_settling=True, settling_steps=8,
+                       comm=MPI.COMM_SELF)
+    assert settling.stages()[1].effects[settling.viscous_drag] == dict(coefficient=0.1,
+                                                                       step=1.0 / 8)
     with pytest.raises(ValueError, match="pull must be one of"):
         Weaving(bundles, pull="fibres", comm=MPI.COMM_SELF)
     for n in (-1, 2.5):

@@ -123,6 +123,14 @@ class Weaving:
         28-fibre 2 x 2 weave (amplitude 0.45) fades through with it and
         stops without it (benchmarks/README.md, "28-fibre bundles: a
         viscous fading").
+    viscous_settling:
+        Lifting with a ``drag``: in the settling stage too the drag is a
+        viscosity (over the settling's step, 1 / ``settling_steps``), so a
+        cut step drags harder. Default False. After a lifting with a
+        ``lifting_drag`` the 28-fibre 2 x 2 weave's settling folds an
+        element in its first steps at every step size with the plain drag,
+        and settles with it (benchmarks/README.md, "The paper's sample of
+        28-fibre bundles").
     drag_within_yarns:
         With a ``drag`` or ``lifting_drag``: False (default), the drag acts
         on each node's own motion (:class:`~textile.effects.ViscousDrag`);
@@ -244,7 +252,8 @@ class Weaving:
                  relaxation_steps: int | None = None, tension: float = 1e-4, contact=None,
                  element=None, method: str | None = None, settling_steps: int = 16,
                  amplitude: float = 0.55, drag: float = 0.0, lifting_drag: float = 0.0,
-                 viscous_fading: bool = False, drag_within_yarns: bool = False,
+                 viscous_fading: bool = False, viscous_settling: bool = False,
+                 drag_within_yarns: bool = False,
                  newton_per_pass: int | None = None, pull: str = "yarn",
                  preset: str | None = None, comm=MPI.COMM_WORLD, partition: str = "place"):
         if not isinstance(fabric, Fabric):
@@ -283,16 +292,21 @@ class Weaving:
                                  f"method is {method!r}")
         if pull not in self.PULLS:
             raise ValueError(f"Weaving: pull must be one of {self.PULLS}, got {pull!r}")
-        if not isinstance(viscous_fading, bool):
-            raise TypeError(f"Weaving: viscous_fading is True or False, got {viscous_fading!r}")
+        for name, value in (("viscous_fading", viscous_fading),
+                            ("viscous_settling", viscous_settling)):
+            if not isinstance(value, bool):
+                raise TypeError(f"Weaving: {name} is True or False, got {value!r}")
         if drag > 0 and relaxation_steps is not None:
             raise ValueError("Weaving: relaxation_steps has no stage to count with a drag: the "
                              "fading stage ends the weave (its last step is the relaxation); "
                              "leave relaxation_steps out")
-        if viscous_fading and not drag > 0:
-            raise ValueError("Weaving: viscous_fading makes the fading stage's drag a viscosity; "
-                             "it needs a drag > 0")
+        for name, value, stage in (("viscous_fading", viscous_fading, "fading"),
+                                   ("viscous_settling", viscous_settling, "settling")):
+            if value and not drag > 0:
+                raise ValueError(f"Weaving: {name} makes the {stage} stage's drag a viscosity; "
+                                 f"it needs a drag > 0")
         self.viscous_fading = viscous_fading
+        self.viscous_settling = viscous_settling
         if not isinstance(drag_within_yarns, bool):
             raise TypeError(f"Weaving: drag_within_yarns is True or False, got "
                             f"{drag_within_yarns!r}")
@@ -413,7 +427,8 @@ class Weaving:
         lifting, settling, relaxation = stages
         c, path, woven = self.drag, self._path_tolerance, self._update_tolerance
         lifting.effects[self.viscous_drag] = dict(coefficient=self.lifting_drag)
-        settling.effects[self.viscous_drag] = dict(coefficient=c)
+        settling.effects[self.viscous_drag] = dict(
+            coefficient=c, step=1.0 / self.settling_steps if self.viscous_settling else None)
         if c == 0:
             return [lifting, settling, relaxation]
         fading = Stage("fading", effects={**relaxation.effects,

@@ -255,7 +255,7 @@ def _schema():
     weaving = table({"steps": (integer(1), None), "relaxation_steps": (integer(1), None),
                      "tension": (number(positive=True), 1e-4), "drag": (number(minimum=0), 0.0),
                      "lifting_drag": (number(minimum=0), 0.0),
-                     "viscous_fading": (boolean, False),
+                     "viscous_fading": (boolean, False), "viscous_settling": (boolean, False),
                      "drag_within_yarns": (boolean, False), "contact": (contact, None)})
     test_keys = {"type": (string(TEST_TYPES), None), "name": (string(), None),
                  "steps": (integer(1), None), "release_steps": (integer(0), None),
@@ -770,12 +770,14 @@ class Scene:
     def weaving_options(self) -> dict:
         w = self.data["weaving"] or {"steps": None, "relaxation_steps": None, "tension": 1e-4,
                                      "drag": 0.0, "lifting_drag": 0.0, "viscous_fading": False,
+                                     "viscous_settling": False,
                                      "drag_within_yarns": False, "contact": None}
         return dict(steps=w["steps"] or self.preset()["weaving"]["steps"],
                     relaxation_steps=w["relaxation_steps"], tension=w["tension"],
                     contact=self.contact_options(w["contact"]), element=self.element(),
                     **{k: w[k] for k in ("drag", "lifting_drag") if w[k] > 0},
                     **({"viscous_fading": True} if w["viscous_fading"] else {}),
+                    **({"viscous_settling": True} if w["viscous_settling"] else {}),
                     **({"drag_within_yarns": True} if w["drag_within_yarns"] else {}))
 
     # -- running -----------------------------------------------------------------
