@@ -18,7 +18,11 @@ included), the woven fabric's figures, and writes them to
 Bundles (``--packing hexagonal``, ``round``) weave by lifting, the 6 x 6
 sample with the drags of ``--weaving`` (Weaving's options) and
 ``--solver '{"max_it": 50}'`` (benchmarks/README.md, "The fading's last
-step is the relaxation"); their woven states go to
+step is the relaxation"); the paper's 28-fibre bundles with ``--free-length
+2 --weaving '{"pull": "fibre", "amplitude": 0.45, "drag": 0.1,
+"lifting_drag": 0.1, "viscous_settling": true, "viscous_fading": true}'``
+(benchmarks/README.md, "The paper's sample of 28-fibre bundles": not yet
+woven to the end); their woven states go to
 ``output/weave_sample_<pattern>_<fibres>_<packing>.h5``, the flat-row
 sample's keep their name. Each woven state's pictures (the sample in 3D
 and from above, cuts across warp and weft) go to a directory of the
