@@ -28,7 +28,9 @@ sample's keep their name. Each woven state's pictures (the sample in 3D
 and from above, cuts across warp and weft) go to a directory of the
 state's name, with ``figures.json``: each yarn's section width and height
 at each crossing, the fibre curvature's distribution; ``--from-state``
-makes both again from the saved states, without weaving.
+makes both again from the saved states, without weaving. A long weave
+with ``--checkpoint`` saves its state after every step; ``--resume`` goes
+on from there (its row counts the steps, iterations and time of both).
 
 The figures of benchmarks/README.md (2 ranks): the plain weave with
 ``--patterns plain --solver '{"low_rank_tolerance": 1e-8}'`` (since
@@ -129,33 +131,80 @@ def from_state(fabric: Fabric, state: str, comm) -> None:
         draw_woven(fabric, state)
 
 
+def step_rows(solver) -> list[dict]:
+    return [dict(step=h.step, stage=h.stage, load_factor=h.load_factor,
+                 newton_iterations=h.newton_iterations, attempts=h.attempts,
+                 updates=h.updates, wall_seconds=h.wall_time) for h in solver.history]
+
+
+class Checkpoint:
+    """The run's state after every step, ``<state>_checkpoint.h5``, and what
+    the run did so far (steps, counters, wall time), ``.json`` beside it:
+    ``--resume`` goes on from there, and its figures count both parts."""
+
+    def __init__(self, state: str, comm, earlier: dict | None = None):
+        stem = state.removesuffix(".h5")
+        self.h5, self.json, self.comm = stem + "_checkpoint.h5", stem + "_checkpoint.json", comm
+        self.earlier = earlier or dict(steps=[], counters={}, wall_seconds=0.0)
+        self.t0 = time.perf_counter()
+
+    @classmethod
+    def resumed(cls, state: str, model, solver, comm):
+        """Load the checkpoint of ``state`` into ``model`` and ``solver``: the
+        attributes load_state returned, and the checkpoint."""
+        c = cls(state, comm)
+        with open(c.json) as f:
+            c.earlier = json.load(f)
+        attrs = textile.load_state(model, c.h5, solver)
+        c.t0 = time.perf_counter()
+        return attrs, c
+
+    def so_far(self, solver) -> dict:
+        counters = dict(self.earlier["counters"])
+        for k, v in solver.counters.items():
+            counters[k] = counters.get(k, 0) + v
+        return dict(steps=self.earlier["steps"] + step_rows(solver), counters=counters,
+                    wall_seconds=self.earlier["wall_seconds"] + time.perf_counter() - self.t0)
+
+    def __call__(self, solver, rec) -> None:
+        textile.save_state(solver.model, self.h5, solver)
+        if self.comm.rank == 0:
+            with open(self.json, "w") as f:
+                json.dump(self.so_far(solver), f, default=float)
+
+
 def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, packing: str,
           solver_options: dict, comm, weaving_steps: int = 5,
           free_length: float | None = None, crossing_patch: int = 2,
-          weaving_options: dict | None = None) -> dict:
+          weaving_options: dict | None = None, checkpoint: bool = False,
+          resume: bool = False) -> dict:
     fabric = sample_fabric(pattern, fibres, yarns, elements, spacing, packing, free_length)
     weaving = Weaving(fabric, steps=weaving_steps, comm=comm,
                       contact=dict(crossing_patch=crossing_patch), **(weaving_options or {}))
     model = weaving.model
-    t0 = time.perf_counter()
+    state = os.path.join(OUT, woven_name(pattern, fibres, packing))
     error = ""
-    solver = textile.Solver(model, dict(solver_options, verbose=comm.rank == 0))
+    t0 = time.perf_counter()
+    saving = Checkpoint(state, comm) if checkpoint or resume else None
+    solver = textile.Solver(model, dict(solver_options, verbose=comm.rank == 0), on_step=saving)
+    resumed = None
+    if resume:
+        resumed, saving = Checkpoint.resumed(state, model, solver, comm)
+        solver.on_step = saving
     try:
-        solver.run(weaving.stages())
+        solver.run(weaving.stages(), resumed=resumed)
     except textile.ConvergenceError as e:
         error = str(e)
-    wall = time.perf_counter() - t0
+    run = saving.so_far(solver) if saving is not None else None
+    wall = run["wall_seconds"] if run else time.perf_counter() - t0
     stats = solver.history[-1].effects if solver.history else {}
     size = dict(fibres=len(model.mesh.fibres), fibre_nodes=int(model.mesh.num_nodes_global),
                 fibre_unknowns=9 * int(model.mesh.num_nodes_global),
                 unknowns=int(model.A.getSize()[0]),
                 contact_elements=int(stats.get("contact_elements", 0)),
                 active_contacts=int(stats.get("active_contacts", 0)))
-    steps = [dict(step=h.step, stage=h.stage, load_factor=h.load_factor,
-                  newton_iterations=h.newton_iterations, attempts=h.attempts,
-                  updates=h.updates, wall_seconds=h.wall_time) for h in solver.history]
+    steps = run["steps"] if run else step_rows(solver)
     summary = weaving.summary() if not error else {}
-    state = os.path.join(OUT, woven_name(pattern, fibres, packing))
     textile.save_state(model, state, solver, fibre_data={"yarn": fabric.fibre_yarn})
     figures = woven_figures(fabric, model, state) if not error else {}
     if comm.rank == 0:
@@ -166,7 +215,8 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
                 crossing_patch=crossing_patch, weaving_options=weaving_options or {},
                 stages=[st.name for st in weaving.stages()],
                 solver_options=solver_options, size=size, wall_seconds=wall,
-                counters=solver.counters, steps=steps, summary=summary, error=error,
+                counters=run["counters"] if run else solver.counters, steps=steps,
+                resumed=bool(resume), summary=summary, error=error,
                 **{k: v for k, v in figures.items() if k != "sections"})
 
 
@@ -215,6 +265,12 @@ def main():
     parser.add_argument("--weaving", type=json.loads, default={},
                         help='Weaving options as JSON, e.g. \'{"drag": 0.1, "lifting_drag": '
                              '0.1, "viscous_fading": true}\'')
+    parser.add_argument("--checkpoint", action="store_true",
+                        help="save the state after every step (output/<state>_checkpoint.h5, "
+                             "with the steps so far in a .json beside it)")
+    parser.add_argument("--resume", action="store_true",
+                        help="go on from the checkpoint a --checkpoint run of these options "
+                             "left (and keep checkpointing)")
     parser.add_argument("--from-state", action="store_true",
                         help="no weaving: the figures (figures.json) and pictures of the woven "
                              "states these options saved before")
@@ -234,7 +290,7 @@ def main():
     for pattern in args.patterns:
         r = weave(pattern, args.fibres, args.yarns, args.elements, args.spacing, args.packing,
                   args.solver, comm, args.weaving_steps, args.free_length,
-                  args.crossing_patch, args.weaving)
+                  args.crossing_patch, args.weaving, args.checkpoint, args.resume)
         r.update(date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), ranks=comm.size,
                  machine=runtime.describe())
         runs.append(r)

@@ -116,6 +116,49 @@ def test_saved_and_resumed_run_equals_the_continuous_one(tmp_path):
     assert resumed.rigid_bodies.turned[1] == pytest.approx([0, 0.3, 0], abs=1e-14)
 
 
+def test_a_run_of_stages_goes_on_from_a_state_saved_at_any_step(tmp_path):
+    """Solver.run(stages, resumed=attrs): a state saved at a stage's end goes
+    on with the next stage, one saved within a stage goes on in it, one
+    saved at the run's end runs nothing; each ends where the whole run did."""
+    saved = []
+
+    def build(on_step=None):
+        fib = textile.straight_fibre([0, 0, 0], [L, 0, 0], R, textile.Material(E, NU),
+                                     num_elements=8, section_vector=[0, 1, 0])
+        model = textile.Model(fib, comm=MPI.COMM_SELF)
+        model.add_rigid_body(textile.RigidBody("clamp", sections=[(fib, 0)]).fix())
+        end = textile.RigidBody("end", sections=[(fib, -1)])
+        turn = end.prescribe(["y", "z", "rx", "ry", "rz"], 0.0)
+        end.add_force([1e-3 * E * np.pi * R ** 2, 0, 0])
+        model.add_rigid_body(end)
+        solver = textile.Solver(model, dict(verbose=False, max_step=0.5), on_step=on_step)
+        stages = [textile.Stage("pull"), textile.Stage("turn", ramp={turn: [0, 0, 0, 0.3, 0]})]
+        return model, solver, stages
+
+    def save(solver, rec):
+        path = str(tmp_path / f"step{rec.step}.h5")
+        textile.save_state(solver.model, path, solver)
+        saved.append((rec.stage, rec.load_factor, rec.step, path))
+
+    whole, solver, stages = build(save)
+    solver.run(stages)
+    steps = len(solver.history)
+    kinds = {"pull": [], "turn": []}
+    for stage, t, step, path in saved:
+        kinds[stage].append((t, step, path))
+    end_of_pull = [p for t, _, p in kinds["pull"] if t == 1.0][0]
+    within_turn = [(step, p) for t, step, p in kinds["turn"] if t < 1.0][0]
+    end_of_run = kinds["turn"][-1][2]
+    for path, left in ((end_of_pull, len(kinds["turn"])),
+                       (within_turn[1], steps - within_turn[0]), (end_of_run, 0)):
+        model, solver, stages = build()
+        attrs = textile.load_state(model, path, solver)
+        solver.run(stages, resumed=attrs)
+        assert len(solver.history) == left  # only the steps the saved run had left
+        assert np.abs(whole.nodal_unknowns() - model.nodal_unknowns()).max() < 1e-10 * L
+        assert model.rigid_bodies.turned[1] == pytest.approx([0, 0.3, 0], abs=1e-14)
+
+
 def test_fibre_labels_must_match_the_fibres(tmp_path):
     fib, model, force = cantilever()
     with pytest.raises(ValueError, match="fibre_data.'yarn'. has .2,. values"):

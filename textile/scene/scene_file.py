@@ -835,24 +835,13 @@ class Scene:
     def _run_stages(solver, stages, resumed):
         """Run ``stages`` (after a resume: those left) as Solver.run does."""
         from ..io.state_file import load_state
-        start = 0
-        if resumed is not None:
-            attrs = load_state(solver.model, resumed, solver)
-            index = int(attrs.get("stage_index", 0))
-            started = bool(int(attrs.get("stage_started", 1)))
-            within = started and float(attrs["load_factor"]) < 1.0 - 1e-14
-            start = index if (within or not started) else index + 1
-            if not stages:
-                if within:
-                    solver.solve()
-                return
+        attrs = load_state(solver.model, resumed, solver) if resumed is not None else None
         if not stages:
-            solver.solve()
+            if attrs is None or (bool(int(attrs.get("stage_started", 1)))
+                                 and float(attrs["load_factor"]) < 1.0 - 1e-14):
+                solver.solve()
             return
-        for k in range(start, len(stages)):
-            if solver.output is not None:
-                solver.output.hold_pictures = k < len(stages) - 1
-            solver.run_stage(stages[k])
+        solver.run(stages, resumed=attrs)
 
     def _run_weave(self, directory, resume, comm):
         from ..io.state_file import save_state

@@ -191,10 +191,12 @@ class Solver:
         (default 1, the stage's end)."""
         return self.stepping.solve(t_end)
 
-    def run(self, stages) -> list[StepRecord]:
+    def run(self, stages, resumed: dict | None = None) -> list[StepRecord]:
         """Run a sequence of :class:`textile.scene.loading.Stage`, each from load
-        factor 0 to 1, continuing from the state the previous one left."""
-        return self.stepping.run(stages)
+        factor 0 to 1, continuing from the state the previous one left (or,
+        with ``resumed``, the attributes load_state returned, from that
+        saved state: see :meth:`Stages.run`)."""
+        return self.stepping.run(stages, resumed)
 
     def run_stage(self, stage: Stage, t_end: float = 1.0) -> list[StepRecord]:
         """Start ``stage`` where the current one ended and solve it to its

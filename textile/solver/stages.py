@@ -27,11 +27,21 @@ class Stages(Stepping):
 
     STAGE_OPTIONS = STAGE_OPTIONS
 
-    def run(self, stages) -> list[StepRecord]:
+    def run(self, stages, resumed: dict | None = None) -> list[StepRecord]:
         """Run a sequence of :class:`textile.scene.loading.Stage`, each from load
-        factor 0 to 1, continuing from the state the previous one left."""
+        factor 0 to 1, continuing from the state the previous one left.
+        ``resumed``: the attributes ``load_state(model, path, solver)``
+        returned for a state saved during a run of the same stages; the run
+        goes on from there (the stage it stopped in, or the next one)."""
         stages = list(stages)
-        for k, stage in enumerate(stages):
+        start = 0
+        if resumed is not None:
+            index = int(resumed.get("stage_index", 0))
+            started = bool(int(resumed.get("stage_started", 1)))
+            within = started and float(resumed["load_factor"]) < 1.0 - 1e-14
+            start = index if (within or not started) else index + 1
+        for k in range(start, len(stages)):
+            stage = stages[k]
             if self.owner.output is not None:  # pictures of the final state only
                 self.owner.output.hold_pictures = k < len(stages) - 1
             self.run_stage(stage)
