@@ -22,7 +22,7 @@ later keeps what it did; tests not run again keep their earlier entry).
 
     mpirun -n 2 .venv/bin/python benchmarks/virtual_tests_sample.py
         [--tests shear bending twisting] [--steps-shear 30] [--steps-rotation 15]
-        [--fibres 7 --packing hexagonal]
+        [--fibres 7 --packing hexagonal] [--free-length 2]
         [--solver '{"low_rank_tolerance": 1e-8, "branch_switching": false,
                     "describe_instability": true}']
 
@@ -191,6 +191,9 @@ def main():
     parser.add_argument("--yarns", type=int, default=6)
     parser.add_argument("--elements", type=int, default=4)
     parser.add_argument("--spacing", type=float, default=2.0, help="in yarn widths")
+    parser.add_argument("--free-length", type=float, default=None,
+                        help="yarn tails beyond the outer crossings, in spacings, as "
+                             "weave_sample.py's (default: Fabric's)")
     parser.add_argument("--steps-shear", type=int, default=30)
     parser.add_argument("--steps-rotation", type=int, default=15)
     parser.add_argument("--shear", type=float, default=0.2,
@@ -214,7 +217,9 @@ def main():
     yarn = Yarn(args.fibres, R, FIBRE, packing=args.packing)
     fabric = Fabric(yarn, num_warp=args.yarns, num_weft=args.yarns,
                     spacing=args.spacing * yarn.width, pattern="plain",
-                    elements_per_crossing=args.elements)
+                    elements_per_crossing=args.elements,
+                    free_length=None if args.free_length is None
+                    else args.free_length * args.spacing * yarn.width)
     path = os.path.join(OUT, f"virtual_tests_sample{suffix}.json")
     # tests run before (another day, another invocation) stay in the file
     # unless run again; each test carries its own date and machine
