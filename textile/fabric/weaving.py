@@ -391,13 +391,13 @@ class Weaving:
         README.md, "The fading's last step is the relaxation")."""
         if self.method == "lifting":
             stiffness, passes = self.HEDDLE_STIFFNESS, self.newton_per_pass
-            capped = dict(newton_per_pass=passes, regrow_after=self.REGROW_AFTER)
+            stepping = dict(newton_per_pass=passes, regrow_after=self.REGROW_AFTER)
             stages = [Stage("lifting", effects={self.contact: weaving_mode(self.fabric,
                                                                            "within_yarns"),
                                                 self.heddles: dict(lift=lambda s: s,
                                                                    stiffness=stiffness)},
                             solver=dict(initial_step=1.0 / self.steps, max_step=1.0 / self.steps,
-                                        **capped)),
+                                        **stepping)),
                       Stage("settling", effects={
                           self.contact: dict(mode="ordinary", make_up_penetrations=True,
                                              update_tolerance=self._path_tolerance),
@@ -405,13 +405,13 @@ class Weaving:
                                              stiffness=lambda s: stiffness * (1 - s) ** 2)},
                             solver=dict(initial_step=1.0 / self.settling_steps,
                                         max_step=1.0 / self.settling_steps,
-                                        **capped)),
+                                        **stepping)),
                       Stage("relaxation", effects={
                           self.heddles: dict(stiffness=0.0),
                           self.contact: dict(update_tolerance=self._update_tolerance)},
                             solver=dict(initial_step=1.0 / self.relaxation_steps,
                                         max_step=1.0 / self.relaxation_steps,
-                                        **capped))]
+                                        **stepping))]
             return self._with_drag(stages) if self.viscous_drag is not None else stages
         return [Stage("weaving", effects={self.contact: weaving_mode(self.fabric)},
                       solver=dict(initial_step=1.0 / self.steps, max_step=1.0 / self.steps)),
