@@ -28,7 +28,8 @@ sample's keep their name. Each woven state's pictures (the sample in 3D
 and from above, cuts across warp and weft) go to a directory of the
 state's name, with ``figures.json``: each yarn's section width and height
 at each crossing, the fibre curvature's distribution; ``--from-state``
-makes both again from the saved states, without weaving. A long weave
+makes both again from the saved states, without weaving; ``--side-by-side``
+puts a sample's cuts and figures beside the flat-row sample's. A long weave
 with ``--checkpoint`` saves its state after every step; ``--resume`` goes
 on from there (its row counts the steps, iterations and time of both).
 
@@ -220,6 +221,56 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
                 **{k: v for k, v in figures.items() if k != "sections"})
 
 
+def side_by_side(pattern: str, fibres: int, packing: str, runs: list[dict]) -> None:
+    """The flat-row sample and the sample of ``fibres``-fibre ``packing``
+    yarns, woven in ``pattern`` and measured before (their pictures and
+    figures.json, their rows of weave_sample.json): their cuts across warp
+    and weft in one picture, ``<bundle state>/side_by_side.png``, and their
+    figures printed side by side (rank 0)."""
+    import matplotlib.pyplot as plt
+
+    cases = [("flat rows of 28", 28, "layers 1"), (f"{fibres}-fibre {packing}", fibres, packing)]
+    dirs = [os.path.join(OUT, woven_name(pattern, n, p).removesuffix(".h5"))
+            for _, n, p in cases]
+    missing = [d for d in dirs if not os.path.exists(os.path.join(d, "figures.json"))]
+    if missing:
+        raise SystemExit(f"no figures for {', '.join(missing)}: weave them first (or make "
+                         f"them again with --from-state)")
+    images = [[plt.imread(os.path.join(d, cut + ".png")) for cut in ("cut_warp", "cut_weft")]
+              for d in dirs]
+    aspect = max(im.shape[0] / im.shape[1] for row in images for im in row)
+    fig, axes = plt.subplots(2, 2, figsize=(16, 2 * (8 * aspect + 0.4)))
+    for row, ((label, _, _), d) in enumerate(zip(cases, dirs)):
+        for col, cut in enumerate(("cut_warp", "cut_weft")):
+            ax = axes[row, col]
+            ax.imshow(images[row][col])
+            ax.set_axis_off()
+            ax.set_title(f"{pattern}, {label}: {cut.replace('_', ' across ')}")
+    fig.tight_layout()
+    picture = os.path.join(dirs[1], "side_by_side.png")
+    fig.savefig(picture, dpi=120)
+    plt.close(fig)
+    print(f"wrote {picture}")
+    rows = []
+    for (label, n, p), d in zip(cases, dirs):
+        with open(os.path.join(d, "figures.json")) as f:
+            figures = json.load(f)
+        run = [r for r in runs if r["pattern"] == pattern and r.get("fibres_per_yarn") == n
+               and r.get("packing") == p and not r.get("error")]
+        rows.append((label, figures, run[-1]["summary"] if run else {}))
+    print(f"{'':<34}" + "".join(f"{label:>24}" for label, _, _ in rows))
+    for key in ("warp crimp", "weft crimp", "warp shrinkage", "weft shrinkage"):
+        values = [f"{s[key]:>24.4%}" if key in s else f"{'-':>24}" for _, _, s in rows]
+        print(f"{key:<34}" + "".join(values))
+    for name in ("warp", "weft"):
+        print(f"{name + ' height / width (min/mean/max)':<34}" + "".join(
+            "{min:>10.3f}/{mean:.3f}/{max:.3f}".format(**f[f"{name}_height_over_width"])
+            for _, f, _ in rows))
+    for q in ("p50", "p99", "max"):
+        print(f"{'fibre curvature ' + q + ' [1/m]':<34}" + "".join(
+            f"{f['curvature_per_m'][q]:>24.0f}" for _, f, _ in rows))
+
+
 def run_key(r: dict) -> tuple:
     return (r["pattern"], r.get("fibres_per_yarn"), r.get("packing"), r.get("spacing_in_widths"),
             r.get("weaving_steps", 5), r.get("yarns", 6), r.get("crossing_patch", 2),
@@ -271,11 +322,21 @@ def main():
     parser.add_argument("--resume", action="store_true",
                         help="go on from the checkpoint a --checkpoint run of these options "
                              "left (and keep checkpointing)")
+    parser.add_argument("--side-by-side", action="store_true",
+                        help="no weaving: the flat-row sample and this one (woven and measured "
+                             "before), their cuts in one picture and their figures side by side")
     parser.add_argument("--from-state", action="store_true",
                         help="no weaving: the figures (figures.json) and pictures of the woven "
                              "states these options saved before")
     args = parser.parse_args()
     comm = MPI.COMM_WORLD
+    if args.side_by_side:
+        if comm.rank == 0:
+            with open(os.path.join(OUT, "weave_sample.json")) as f:
+                runs = json.load(f)["runs"]
+            for pattern in args.patterns:
+                side_by_side(pattern, args.fibres, args.packing, runs)
+        return
     if args.from_state:
         for pattern in args.patterns:
             from_state(sample_fabric(pattern, args.fibres, args.yarns, args.elements,
