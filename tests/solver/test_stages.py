@@ -79,10 +79,9 @@ def test_stage_errors_are_named():
         solver.run_stage(textile.Stage("s", ramp={"force": 1.0}))
 
 
-def pulled_and_bent(path=None, resume_from=None):
-    """Two stages: a rigid body pulls a fibre (force), then turns it about y
-    (prescribed) while the force is held; optionally save after the first
-    stage, or resume the second from a saved file."""
+def pull_and_bend_scene(on_step=None):
+    """A rigid body pulls a fibre (force), then turns it about y
+    (prescribed) while the force is held: (model, solver, [pull, turn])."""
     fib = textile.straight_fibre([0, 0, 0], [L, 0, 0], R, textile.Material(E, NU),
                                  num_elements=8, section_vector=[0, 1, 0])
     model = textile.Model(fib, comm=MPI.COMM_SELF)
@@ -91,9 +90,15 @@ def pulled_and_bent(path=None, resume_from=None):
     turn = end.prescribe(["y", "z", "rx", "ry", "rz"], 0.0)
     end.add_force([1e-3 * E * np.pi * R ** 2, 0, 0])
     model.add_rigid_body(end)
-    solver = textile.Solver(model, dict(verbose=False, max_step=0.5))
-    first = textile.Stage("pull")
-    second = textile.Stage("turn", ramp={turn: [0, 0, 0, 0.3, 0]})
+    solver = textile.Solver(model, dict(verbose=False, max_step=0.5), on_step=on_step)
+    return model, solver, [textile.Stage("pull"),
+                           textile.Stage("turn", ramp={turn: [0, 0, 0, 0.3, 0]})]
+
+
+def pulled_and_bent(path=None, resume_from=None):
+    """The two stages of pull_and_bend_scene; optionally save after the
+    first stage, or resume the second from a saved file."""
+    model, solver, (first, second) = pull_and_bend_scene()
     if resume_from is None:
         solver.run_stage(first)
         if path is not None:
@@ -122,25 +127,12 @@ def test_a_run_of_stages_goes_on_from_a_state_saved_at_any_step(tmp_path):
     saved at the run's end runs nothing; each ends where the whole run did."""
     saved = []
 
-    def build(on_step=None):
-        fib = textile.straight_fibre([0, 0, 0], [L, 0, 0], R, textile.Material(E, NU),
-                                     num_elements=8, section_vector=[0, 1, 0])
-        model = textile.Model(fib, comm=MPI.COMM_SELF)
-        model.add_rigid_body(textile.RigidBody("clamp", sections=[(fib, 0)]).fix())
-        end = textile.RigidBody("end", sections=[(fib, -1)])
-        turn = end.prescribe(["y", "z", "rx", "ry", "rz"], 0.0)
-        end.add_force([1e-3 * E * np.pi * R ** 2, 0, 0])
-        model.add_rigid_body(end)
-        solver = textile.Solver(model, dict(verbose=False, max_step=0.5), on_step=on_step)
-        stages = [textile.Stage("pull"), textile.Stage("turn", ramp={turn: [0, 0, 0, 0.3, 0]})]
-        return model, solver, stages
-
     def save(solver, rec):
         path = str(tmp_path / f"step{rec.step}.h5")
         textile.save_state(solver.model, path, solver)
         saved.append((rec.stage, rec.load_factor, rec.step, path))
 
-    whole, solver, stages = build(save)
+    whole, solver, stages = pull_and_bend_scene(save)
     solver.run(stages)
     steps = len(solver.history)
     kinds = {"pull": [], "turn": []}
@@ -151,7 +143,7 @@ def test_a_run_of_stages_goes_on_from_a_state_saved_at_any_step(tmp_path):
     end_of_run = kinds["turn"][-1][2]
     for path, left in ((end_of_pull, len(kinds["turn"])),
                        (within_turn[1], steps - within_turn[0]), (end_of_run, 0)):
-        model, solver, stages = build()
+        model, solver, stages = pull_and_bend_scene()
         attrs = textile.load_state(model, path, solver)
         solver.run(stages, resumed=attrs)
         assert len(solver.history) == left  # only the steps the saved run had left
