@@ -835,10 +835,10 @@ class Scene:
     def _run_stages(solver, stages, resumed):
         """Run ``stages`` (after a resume: those left) as Solver.run does."""
         from ..io.state_file import load_state
+        from ..solver.stages import stopped_within_stage
         attrs = load_state(solver.model, resumed, solver) if resumed is not None else None
         if not stages:
-            if attrs is None or (bool(int(attrs.get("stage_started", 1)))
-                                 and float(attrs["load_factor"]) < 1.0 - 1e-14):
+            if attrs is None or stopped_within_stage(attrs):
                 solver.solve()
             return
         solver.run(stages, resumed=attrs)

@@ -22,6 +22,13 @@ STAGE_OPTIONS = {"initial_step", "min_step", "max_step", "grow", "cut", "easy_it
                  "branch_switching", "branch_amplitudes", "verbose"}
 
 
+def stopped_within_stage(resumed: dict) -> bool:
+    """Did the run a saved state's attributes (load_state's) describe stop
+    inside a begun stage (not at its end)?"""
+    return bool(int(resumed.get("stage_started", 1))) \
+        and float(resumed["load_factor"]) < 1.0 - 1e-14
+
+
 class Stages(Stepping):
     """:class:`Stepping` over a sequence of stages, resumable."""
 
@@ -38,8 +45,7 @@ class Stages(Stepping):
         if resumed is not None:
             index = int(resumed.get("stage_index", 0))
             started = bool(int(resumed.get("stage_started", 1)))
-            within = started and float(resumed["load_factor"]) < 1.0 - 1e-14
-            start = index if (within or not started) else index + 1
+            start = index if (stopped_within_stage(resumed) or not started) else index + 1
         for k in range(start, len(stages)):
             stage = stages[k]
             if self.owner.output is not None:  # pictures of the final state only
