@@ -746,7 +746,7 @@ def measure(case: str, knobs: dict) -> dict:
     try:
         run = RUNNERS[case](k)
     except (textile.ConvergenceError, textile.GeometryError) as e:
-        run = Run(math.nan, [], f"failed: {type(e).__name__}")
+        run = Run(math.nan, [], f"failed: {type(e).__name__}: {str(e)[:200]}")
     wall = time.perf_counter() - t0
     after = event_counts()
     peak = _status("VmHWM") - rss if peak_ok else math.nan
@@ -812,6 +812,9 @@ def reference(case: str, say=print) -> list:
         row.update(kind="reference", knob=f"weight {weight:.4g}")
         rows.append(row)
         say(_line(row))
+        if REFERENCE_FIGURE[case] not in row["extra"]:
+            raise RuntimeError(f"{case}: the reference run with {knobs} gave no "
+                               f"{REFERENCE_FIGURE[case]!r} ({row['note'] or 'no note'})")
         value = value + weight * np.array(row["extra"][REFERENCE_FIGURE[case]])
     if case in REFERENCE_RUNS:
         REFERENCES[case] = value

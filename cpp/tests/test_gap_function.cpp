@@ -3,6 +3,7 @@
 // each kind measures.
 #include "fd.h"
 #include <textile/contact/contact_element.h>
+#include <textile/contact/closest_points.h>
 #include <textile/contact/gap_function.h>
 #include <textile/beam/shape_functions.h>
 #include <textile/contact/regularized_penalty.h>
@@ -463,4 +464,84 @@ TEST(ContactPatch, AFollowingPointPastItsPatchEndFollowsTheContinuedCentreLine)
   const GapFunction stopped(end, pj, Eigen::Vector3d::UnitZ(), motion, std::span(x.data(), ni),
                             std::span(x.data() + ni, n - ni), 0.0, false);
   EXPECT_EQ(stopped.patch_xi_i(), 1.0);
+}
+
+TEST(ContactPatch, ACrossingAtAKinkedNodeIsDetectedWhereNewtonsLinesAreClosest)
+{
+  // Fibre i: two elements kinked by 10 deg at their node (x = len), bent
+  // away from fibre j, which runs along y 1.9 R below, 0.05 element past
+  // the node. Newton moves a crossing's facing point on its patch's line,
+  // smoothed across the node (particle.h); detection must search that same
+  // line: its points are where the patch line is closest to j, and the gap
+  // Newton starts from is their distance. (Searched on the C0 line, the
+  // crossing sat 0.007 element off, its gap 5e-3 R too large; in a woven
+  // bundle the C0 search locked at a kinked node in one pass and found the
+  // point 0.1 element away in the next, and the contact loop cycled.)
+  const double R = 0.01, len = 0.2, kink = 10 * M_PI / 180, xc = len + 0.01;
+  const auto xi = kinked_patch(0.0, 1.9 * R, len, kink);
+  std::mt19937 gen(1);
+  const auto xj = element(3, Eigen::Vector3d(xc, 0, 0), Eigen::Vector3d(0, 1, 0),
+                          Eigen::Vector3d(1, 0, 0), 0.1, 0.0, gen, 0.0);
+  Centrelines c;
+  for (const auto* x : {&xi, &xj})
+    for (std::size_t a = 0; a < x->size(); a += 9)
+      c.x.insert(c.x.end(), x->begin() + a, x->begin() + a + 3);
+  c.fibre_offsets = {0, 5, 8};
+  c.order = 2;
+  c.radius = {R, R};
+  c.validate();
+  // the patch's line (particle.h), independently of Centrelines
+  const Particle patch{3, 0.0, 0, 0, R, 2, 0};
+  auto patch_line = [&](double u)
+  {
+    const PatchShape shape(patch, u);
+    Eigen::Vector3d p = Eigen::Vector3d::Zero(), dp = Eigen::Vector3d::Zero();
+    for (int a = 0; a < 5; ++a)
+    {
+      p += shape.n[a] * Eigen::Map<const Eigen::Vector3d>(xi.data() + 9 * a);
+      dp += shape.dn[a] * Eigen::Map<const Eigen::Vector3d>(xi.data() + 9 * a);
+    }
+    return std::pair{p, dp};
+  };
+  // the smoothed centre line is the patch's (s = (u + 1) / 2, d/ds = 2 d/du)
+  for (double s : {0.2, 0.6, 0.9, 1.0, 1.1, 1.45, 1.8})
+  {
+    const auto [p, dp] = patch_line(2 * s - 1);
+    EXPECT_LT((p - c.smooth_position(0, s)).norm(), 1e-15) << s;
+    EXPECT_LT((2 * dp - c.smooth_tangent(0, s)).norm(), 1e-13) << s;
+  }
+  // the patch line's closest approach to j's straight centre line, by a
+  // scan of u and a golden-section refinement
+  auto distance = [&](double u)
+  {
+    const Eigen::Vector3d p = patch_line(u).first;
+    return std::hypot(p.x() - xc, p.z());
+  };
+  double lo = -1, best = distance(lo);
+  for (int k = 1; k <= 4000; ++k)
+    if (distance(-1 + 4e-3 * k) < best)
+      best = distance(-1 + 4e-3 * k), lo = -1 + 4e-3 * k;
+  double a = lo - 4e-3, b = lo + 4e-3;
+  const double ratio = (std::sqrt(5.0) - 1) / 2;
+  while (b - a > 1e-12)
+  {
+    const double m1 = b - ratio * (b - a), m2 = a + ratio * (b - a);
+    (distance(m1) < distance(m2) ? b : a) = distance(m1) < distance(m2) ? m2 : m1;
+  }
+  const double u_min = 0.5 * (a + b);
+  const auto [s, t] = closest_points(c, 0, 1.3, 1, 0.4);
+  EXPECT_NEAR(2 * s - 1, u_min, 1e-6);
+  EXPECT_GT(std::abs(s - 1.0), 1e-3); // not at the node
+  const Eigen::Vector3d r = c.smooth_position(0, s) - c.smooth_position(1, t);
+  EXPECT_NEAR(r.norm(), distance(u_min), 1e-12);
+  // Newton's facing point along the detected normal stays there, and its
+  // gap is that distance less the sections' supports along N
+  const Eigen::Vector3d N = r.normalized();
+  const int position = s < 1.0 ? 0 : 1;
+  const Particle pi{3, 2 * (s - position) - 1, 0, -R, R, 2, position}, pj{3, 2 * t - 1, 0, R, R};
+  const GapMotion motion{GapKind::facing, Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0)};
+  const GapFunction g(pi, pj, N, motion, xi, xj, 0.0, false);
+  EXPECT_NEAR(g.patch_xi_i(), 2 * s - 1, 1e-9);
+  const double supports = R * std::hypot(N.y(), N.z()) + R * std::hypot(N.x(), N.z());
+  EXPECT_NEAR(g.gap(), distance(u_min) - supports, 1e-12);
 }

@@ -58,14 +58,15 @@ def sheared(woven):
 
 def test_fibres_follow_the_frame(sheared):
     """The shear angle of the fibres' centre lines in the middle of the
-    sample is the frame's (pin-jointed net) within 1 deg at every step."""
+    sample is the frame's (pin-jointed net) within 1.5 deg at every step."""
     test, result = sheared
     frame = np.array([s["x"] for s in result.steps])
     fibres = np.array([s["fibre_shear_angle"] for s in result.steps])
     assert frame[-1] == pytest.approx(35.0, abs=1e-9)
-    # measured: the middle shears 2.5 % more than the frame (0.85 deg at
-    # 35 deg): the yarns bow a little towards the centre
-    assert np.all(np.abs(fibres - frame) < 1.0), fibres - frame
+    # measured: the middle shears 3 % more than the frame (1.06 deg at
+    # 35 deg, 0.98 with twice the elements): the yarns bow a little towards
+    # the centre
+    assert np.all(np.abs(fibres - frame) < 1.5), fibres - frame
     assert np.all(np.diff(fibres) > 0)
 
 
@@ -220,15 +221,17 @@ def test_stiffening_grows_with_spacing(tmp_path_factory):
 
     Measured (2026-12-01, again 2026-12-03): fivefold at 61.1 deg 2.5 widths
     apart (bound 66.4) and at 62.6-62.7 deg 2.75 widths apart (bound 68.7),
-    each within one of the 0.5-1 deg steps near it. Each run ends 1.9 and
-    2.8 deg past it, at 63 and 65.5 deg: a little further (near 63.6 and
-    66.0 deg) a step's contact loop no longer settles within 60 Newton
-    solves (with friction, the crossings' sticking particles are put where
-    the last solve left their points, which moves them again, at a rate
-    near 1 there), and running into that took 3 of the test's 5 minutes.
-    About 50 + 40 s on a quiet machine."""
+    each within one of the 0.5-1 deg steps near it; again 2026-12-06, with
+    crossings found on the centre lines smoothed at their nodes: 61.1 and
+    62.5 deg. The looser weave now runs to 68 deg (its fivefold sampled by
+    steps of 2 deg is early enough: run to 65.5 deg it read 4.8-fold at its
+    last interval): before, a step near 66.0 deg (63.6 deg for the tighter
+    one) no longer settled its contact loop within 60 Newton solves (with
+    friction, the crossings' sticking particles were put where the last
+    solve left their points, which moved them again, at a rate near 1
+    there). About 15 + 20 s on a quiet machine."""
     figures = {}
-    for spacing, degrees, measured in ((2.5, 63.0, 61.1), (2.75, 65.5, 62.6)):
+    for spacing, degrees, measured in ((2.5, 63.0, 61.1), (2.75, 68.0, 62.6)):
         f = locking_fabric(spacing)
         woven = woven_once(tmp_path_factory, f, QUIET)
         test = PictureFrame(f, woven, angle=math.radians(degrees), steps=30, pin="yarn",

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace textile::contact
 {
@@ -145,6 +146,50 @@ Eigen::Vector3d Centrelines::tangent(int f, double s) const
 {
   const auto [e, xi] = locate(*this, f, s);
   return element_tangent(*this, f, e, xi);
+}
+
+namespace
+{
+/// Point of element e of fibre f at local coordinate xi (continued past
+/// [-1, 1]).
+Eigen::Vector3d element_point(const Centrelines& c, int f, int e, double xi)
+{
+  double n[3], dn[3];
+  shape(c.order, xi, n, dn);
+  const std::int64_t first = c.fibre_offsets[f] + static_cast<std::int64_t>(c.order) * e;
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  for (int a = 0; a <= c.order; ++a)
+    p += n[a] * node(c, first + a);
+  return p;
+}
+
+/// The smoothed line's point and d/ds at s (Centrelines::smooth_position).
+std::pair<Eigen::Vector3d, Eigen::Vector3d> smoothed(const Centrelines& c, int f, double s)
+{
+  const auto [e, xi] = locate(c, f, s);
+  const double node = std::round(s);
+  const double w = patch_smoothing;
+  if (node <= 0 or node >= c.num_elements(f) or std::abs(s - node) >= w)
+    return {element_point(c, f, e, xi), element_tangent(c, f, e, xi)};
+  const int n = static_cast<int>(node);
+  const double tau = (s - (node - w)) / (2.0 * w);
+  const double phi = tau * tau * (3.0 - 2.0 * tau), dphi = 6.0 * tau * (1.0 - tau) / (2.0 * w);
+  const double xi_left = 2.0 * (s - (n - 1)) - 1.0, xi_right = 2.0 * (s - n) - 1.0;
+  const Eigen::Vector3d a = element_point(c, f, n - 1, xi_left), b = element_point(c, f, n, xi_right);
+  const Eigen::Vector3d da = element_tangent(c, f, n - 1, xi_left);
+  const Eigen::Vector3d db = element_tangent(c, f, n, xi_right);
+  return {(1.0 - phi) * a + phi * b, (1.0 - phi) * da + phi * db + dphi * (b - a)};
+}
+} // namespace
+
+Eigen::Vector3d Centrelines::smooth_position(int f, double s) const
+{
+  return smoothed(*this, f, s).first;
+}
+
+Eigen::Vector3d Centrelines::smooth_tangent(int f, double s) const
+{
+  return smoothed(*this, f, s).second;
 }
 
 std::vector<Segment> make_segments(const Centrelines& c)

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include "tolerances.h"
 
 #include <cstdint>
 #include <vector>
@@ -66,6 +67,21 @@ struct Centrelines
   /// at an interior node, where a centre line (C0 between elements) may
   /// have a kink.
   Eigen::Vector3d tangent_left(int f, double s) const;
+
+  /// Centroid position at abscissa s on fibre f's centre line *smoothed to
+  /// C1* across its interior nodes, the line a contact patch sees
+  /// (particle.h): within patch_smoothing (element lengths) of an interior
+  /// node, the two elements' polynomials, each continued past the node, are
+  /// blended, x = (1 - phi) x_left + phi x_right, phi = 3 tau^2 - 2 tau^3,
+  /// tau from 0 to 1 across the window; elsewhere (and at the fibre's ends)
+  /// the element's own polynomial. It passes through every node. Contact
+  /// detection searches crossings on this line so that it finds the point
+  /// Newton's facing point settles at (gap_function.h), not the C0 line's
+  /// kink at a node.
+  Eigen::Vector3d smooth_position(int f, double s) const;
+
+  /// d/ds of smooth_position (continuous in s).
+  Eigen::Vector3d smooth_tangent(int f, double s) const;
 };
 
 /// A straight piece of a centre line used by the broad and narrow phases.

@@ -9,32 +9,26 @@ namespace textile::contact
 {
 namespace
 {
-/// One abscissa of the search, with the element interval a step may not
-/// leave.
+/// One abscissa of the search, on [0, end].
 struct Abscissa
 {
   double value = 0, end = 0; ///< s in [0, end]
-  bool locked = false;       ///< at a node or a fibre end where the distance grows both ways
-  Eigen::Vector3d derivative = Eigen::Vector3d::Zero(); ///< dx/ds on the side the search goes
+  bool locked = false;       ///< at a fibre end where the distance grows inwards
+  Eigen::Vector3d derivative = Eigen::Vector3d::Zero(); ///< dx/ds of the smoothed line
 
-  /// Choose the side from the derivative of phi = |r|^2 / 2 along each
-  /// side (sign: +1 when r = x - other, -1 when r = other - x).
+  /// The derivative at the abscissa, and whether it is locked at an end
+  /// (sign: +1 when r = x - other, -1 when r = other - x).
   void choose(const Centrelines& c, int f, const Eigen::Vector3d& r, double sign)
   {
-    const Eigen::Vector3d right = c.tangent(f, value), left = c.tangent_left(f, value);
-    const double up = sign * right.dot(r), down = sign * left.dot(r); // dphi/ds each side
-    const bool at_node = value == std::floor(value);
-    const bool grows_right = value >= end or up >= 0;   // phi grows (or the fibre ends) going right
-    const bool grows_left = value <= 0 or down <= 0;    // phi grows (or the fibre ends) going left
-    locked = at_node and grows_right and grows_left;
-    derivative = at_node and !grows_left and (grows_right or down > -up) ? left : right;
+    derivative = c.smooth_tangent(f, value);
+    const double slope = sign * derivative.dot(r); // dphi/ds, phi = |r|^2 / 2
+    locked = (value <= 0 and slope >= 0) or (value >= end and slope <= 0);
   }
 
-  /// The step ds, kept within the element the search is in (or enters).
+  /// The step ds, at most half an element, within [0, end].
   double limited(double ds) const
   {
-    const double lo = ds < 0 ? std::ceil(value) - 1.0 : std::floor(value);
-    return std::clamp(value + ds, std::max(lo, 0.0), std::min(lo + 1.0, end)) - value;
+    return std::clamp(value + std::clamp(ds, -0.5, 0.5), 0.0, end) - value;
   }
 };
 } // namespace
@@ -45,7 +39,7 @@ std::pair<double, double> closest_points(const Centrelines& c, int f, double s, 
   Abscissa v{std::clamp(t, 0.0, double(c.num_elements(g))), double(c.num_elements(g))};
   for (int it = 0; it < 60; ++it)
   {
-    const Eigen::Vector3d r = c.position(f, u.value) - c.position(g, v.value);
+    const Eigen::Vector3d r = c.smooth_position(f, u.value) - c.smooth_position(g, v.value);
     u.choose(c, f, r, 1.0);
     v.choose(c, g, r, -1.0);
     const Eigen::Vector3d& a = u.derivative;
@@ -80,7 +74,7 @@ double project_onto(const Centrelines& c, int f, const Eigen::Vector3d& point, d
   Abscissa u{std::clamp(s, 0.0, double(c.num_elements(f))), double(c.num_elements(f))};
   for (int it = 0; it < 60; ++it)
   {
-    const Eigen::Vector3d r = c.position(f, u.value) - point;
+    const Eigen::Vector3d r = c.smooth_position(f, u.value) - point;
     u.choose(c, f, r, 1.0);
     if (u.locked)
       break;

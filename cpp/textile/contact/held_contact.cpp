@@ -71,13 +71,11 @@ int add_held_contacts(Detection& d, const Centrelines& c, const SectionVectors& 
     if (h.crossing)
     {
       std::tie(p.s_i, p.s_j) = closest_points(c, h.fibre_i, h.s_i, h.fibre_j, h.s_j);
-      p.s_i = snapped(c, h.fibre_i, p.s_i);
-      p.s_j = snapped(c, h.fibre_j, p.s_j);
     }
     p.tangent_i = unit_tangent(c, h.fibre_i, p.s_i);
     p.tangent_j = unit_tangent(c, h.fibre_j, p.s_j);
     p.tangent = mean_tangent(p.tangent_i, p.tangent_j);
-    p.centroid_gap = c.position(h.fibre_i, p.s_i) - c.position(h.fibre_j, p.s_j);
+    p.centroid_gap = c.smooth_position(h.fibre_i, p.s_i) - c.smooth_position(h.fibre_j, p.s_j);
     const Eigen::Vector3d& N = h.normal;
     const double contact_distance = c.radius[h.fibre_i] + c.radius[h.fibre_j];
     // across the normal and the fibres, the sections must still overlap

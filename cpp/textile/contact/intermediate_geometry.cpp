@@ -61,7 +61,7 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> SectionVectors::at(const Centrelines
 
 Eigen::Vector3d unit_tangent(const Centrelines& c, int f, double s)
 {
-  return (c.tangent(f, s).normalized() + c.tangent_left(f, s).normalized()).normalized();
+  return c.smooth_tangent(f, s).normalized();
 }
 
 Eigen::Vector3d blended_tangent(const Centrelines& c, int f, double s)
@@ -83,18 +83,6 @@ Eigen::Vector3d mean_tangent(const Eigen::Vector3d& ti, const Eigen::Vector3d& t
 {
   const Eigen::Vector3d t = ti + (ti.dot(tj) >= 0 ? tj : Eigen::Vector3d(-tj));
   return t.normalized();
-}
-
-double snapped(const Centrelines& c, int f, double s)
-{
-  const double node = std::round(s);
-  const double off = std::abs(s - node);
-  if (off < node_snap)
-    return node;
-  if (off >= kink_snap or node <= 0 or node >= c.num_elements(f))
-    return s;
-  const double cosine = c.tangent(f, node).normalized().dot(c.tangent_left(f, node).normalized());
-  return cosine < std::cos(kink_angle) ? node : s;
 }
 
 double crossing_length(double r_i, double r_j) { return r_i + r_j; }
@@ -291,14 +279,9 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
     p.length = lengths[l];
     if (crossing)
     {
-      // A fibre bent over another has a kink at the node under the force,
-      // and the closest point of its quadratic elements may sit a hair off
-      // that node, on either side from one pass to the next (each side's
-      // force puts the next minimum on the other): the loops 1-2 would never
-      // settle. Within node_snap of a node, the crossing is at the node.
+      // on the centre lines smoothed at their nodes, where Newton moves the
+      // crossing's point (closest_points.h)
       std::tie(p.s_i, p.s_j) = closest_points(c, z.fibre_i, z.s_i, z.fibre_j, z.s_j);
-      p.s_i = snapped(c, z.fibre_i, p.s_i);
-      p.s_j = snapped(c, z.fibre_j, p.s_j);
       p.tangent = mean_tangent(unit_tangent(c, z.fibre_i, p.s_i),
                                unit_tangent(c, z.fibre_j, p.s_j));
     }
@@ -330,7 +313,11 @@ std::vector<ContactPoint> contact_points(const Centrelines& c, const SectionVect
     }
     p.tangent_i = crossing ? unit_tangent(c, z.fibre_i, p.s_i) : blended_tangent(c, z.fibre_i, p.s_i);
     p.tangent_j = crossing ? unit_tangent(c, z.fibre_j, p.s_j) : blended_tangent(c, z.fibre_j, p.s_j);
-    p.centroid_gap = c.position(z.fibre_i, p.s_i) - c.position(z.fibre_j, p.s_j);
+    // a crossing's points are the smoothed lines' (closest_points)
+    p.centroid_gap = crossing ? Eigen::Vector3d(c.smooth_position(z.fibre_i, p.s_i)
+                                                - c.smooth_position(z.fibre_j, p.s_j))
+                              : Eigen::Vector3d(c.position(z.fibre_i, p.s_i)
+                                                - c.position(z.fibre_j, p.s_j));
     // direction from i towards j for particle i, and back for j
     Eigen::Vector3d d = -p.centroid_gap;
     if (d.norm() <= 1e-12 * c.radius[z.fibre_i])

@@ -63,7 +63,8 @@ struct ContactPoint
   Eigen::Vector3d held_normal = Eigen::Vector3d::Zero();
 };
 
-/// Unit tangent of fibre f at abscissa s; at a node, the bisector of the
+/// Unit tangent of fibre f's centre line smoothed to C1 at its nodes
+/// (Centrelines::smooth_tangent) at abscissa s; at a node, the mean of the
 /// two elements' tangents (a kink's, where a force bends the fibre).
 Eigen::Vector3d unit_tangent(const Centrelines& c, int f, double s);
 
@@ -79,17 +80,6 @@ Eigen::Vector3d blended_tangent(const Centrelines& c, int f, double s);
 /// Mean of two unit tangents, the second flipped if the fibres run in
 /// opposite directions (an intermediate geometry has no orientation).
 Eigen::Vector3d mean_tangent(const Eigen::Vector3d& ti, const Eigen::Vector3d& tj);
-
-/// A crossing's abscissa s on fibre f, or the nearest node if s lies within
-/// 1e-2 of it (in element coordinates), or within 0.1 of it where the
-/// centre line has a kink (its elements' tangents differ by more than
-/// 1e-3 rad there). A fibre pressed at one point by another kinks at the
-/// node under the force; its quadratic elements bulge next to the kink, and
-/// the closest point lands a little off the node on the side of the last
-/// force, then on the other side in the next pass (each side's force puts
-/// the next minimum on the other): without this the loops 1-2 would not
-/// settle (contact_points).
-double snapped(const Centrelines& c, int f, double s);
 
 /// Equivalent contact length of a crossing (point contact) between fibres
 /// of radii r_i and r_j: r_i + r_j, the distance of their centre lines at

@@ -2,7 +2,7 @@
 //
 // Contact is geometry between curved, moving centre lines, and a few
 // choices have no exact answer: when two fibres count as crossing or lying
-// along each other, how near a node a point snaps to it, how far a kept
+// along each other, how far a kink is spread, how far a kept
 // element may drift. Each lives here, with what it decides, its unit, and
 // the test that pins it: the test that failed when the value was changed
 // as said (2026-12-01); "no test pins it" marks a gap to close.
@@ -40,20 +40,6 @@ inline constexpr double wrap_band = 0.05;
 inline constexpr double end_cap_cosine = 0.99;
 
 // -- where a crossing's element sits -------------------------------------------
-
-/// Crossings whose closest points lie closer than this (element
-/// coordinates) to a node are placed at the node (snapped,
-/// intermediate_geometry.cpp). Pinned by tests/contact/test_crossed_fibres.py
-/// (fails at 0) and tests/contact/test_stacked_fibres.py (fails at 0.2).
-inline constexpr double node_snap = 1e-2;
-
-/// ... and closer than kink_snap to a node where the centre line kinks by
-/// more than kink_angle (radians). kink_snap is pinned by
-/// tests/virtual/test_picture_frame.py (fails at 0); kink_angle by
-/// cpp/tests/test_intermediate_geometry.cpp (fails at 4e-4 and 2.5e-3: a
-/// kink of 2e-3 rad snaps, one of 5e-4 does not).
-inline constexpr double kink_snap = 0.1;
-inline constexpr double kink_angle = 1e-3;
 
 /// Half-width of blended_tangent's window (element coordinates): half an
 /// element, so the tangent turns as slowly as it can; with a quarter the
