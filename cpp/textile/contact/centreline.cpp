@@ -49,6 +49,30 @@ std::pair<int, double> locate(const Centrelines& c, int f, double s)
   const int e = std::min(static_cast<int>(std::floor(s)), ne - 1);
   return {e, 2.0 * (s - e) - 1.0};
 }
+
+/// Sum over element e of fibre f's nodes of the shape functions (or, with
+/// `derivative`, of d/ds = 2 d/dxi) at local coordinate xi (continued past
+/// [-1, 1]) times the nodes: the point (dx0/ds) there.
+Eigen::Vector3d element_sum(const Centrelines& c, int f, int e, double xi, bool derivative)
+{
+  double n[3], dn[3];
+  shape(c.order, xi, n, dn);
+  const std::int64_t first = c.fibre_offsets[f] + static_cast<std::int64_t>(c.order) * e;
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  for (int a = 0; a <= c.order; ++a)
+    p += (derivative ? 2.0 * dn[a] : n[a]) * node(c, first + a);
+  return p;
+}
+
+Eigen::Vector3d element_point(const Centrelines& c, int f, int e, double xi)
+{
+  return element_sum(c, f, e, xi, false);
+}
+
+Eigen::Vector3d element_tangent(const Centrelines& c, int f, int e, double xi)
+{
+  return element_sum(c, f, e, xi, true);
+}
 } // namespace
 
 void Centrelines::validate() const
@@ -110,29 +134,8 @@ int Centrelines::num_elements(int f) const
 Eigen::Vector3d Centrelines::position(int f, double s) const
 {
   const auto [e, xi] = locate(*this, f, s);
-  double n[3], dn[3];
-  shape(order, xi, n, dn);
-  const std::int64_t first = fibre_offsets[f] + static_cast<std::int64_t>(order) * e;
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  for (int a = 0; a <= order; ++a)
-    p += n[a] * node(*this, first + a);
-  return p;
+  return element_point(*this, f, e, xi);
 }
-
-namespace
-{
-/// dx0/ds on element e of fibre f at local coordinate xi.
-Eigen::Vector3d element_tangent(const Centrelines& c, int f, int e, double xi)
-{
-  double n[3], dn[3];
-  shape(c.order, xi, n, dn);
-  const std::int64_t first = c.fibre_offsets[f] + static_cast<std::int64_t>(c.order) * e;
-  Eigen::Vector3d t = Eigen::Vector3d::Zero();
-  for (int a = 0; a <= c.order; ++a)
-    t += dn[a] * node(c, first + a);
-  return 2.0 * t; // dxi/ds = 2
-}
-} // namespace
 
 Eigen::Vector3d Centrelines::tangent_left(int f, double s) const
 {
@@ -150,19 +153,6 @@ Eigen::Vector3d Centrelines::tangent(int f, double s) const
 
 namespace
 {
-/// Point of element e of fibre f at local coordinate xi (continued past
-/// [-1, 1]).
-Eigen::Vector3d element_point(const Centrelines& c, int f, int e, double xi)
-{
-  double n[3], dn[3];
-  shape(c.order, xi, n, dn);
-  const std::int64_t first = c.fibre_offsets[f] + static_cast<std::int64_t>(c.order) * e;
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  for (int a = 0; a <= c.order; ++a)
-    p += n[a] * node(c, first + a);
-  return p;
-}
-
 /// The smoothed line's point and d/ds at s (Centrelines::smooth_position).
 std::pair<Eigen::Vector3d, Eigen::Vector3d> smoothed(const Centrelines& c, int f, double s)
 {
