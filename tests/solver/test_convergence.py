@@ -131,3 +131,42 @@ def test_cycling_newton_is_recognised():
     assert not cycling(base + [5e-4, 8.7e-4] * 2)                    # too short to tell
     assert not cycling([10.0 ** -k for k in range(12)])              # converging
     assert not cycling([0.9 ** k for k in range(20)])                # slow, but 10% a step
+
+
+#: residual norms of Newton solves (restarts on a rebuilt matrix merged,
+#: each solve's first residual left out): the 6 x 6 sample of 28-fibre
+#: bundles at its settling's s = 0.836 (2 ranks), the step doubled to
+#: 0.0066, whose solve wandered for 50 iterations and 15 rebuilds; the same
+#: load reached in two halves, whose second solve 2-cycled until the
+#: cycle's line search; a column pushed off its unstable branch
+#: (tests/stability/test_paths.py), which jumps 1e7-fold and then settles
+#: on the buckled one; a step 100 times too large with the standard Newton
+#: (tests/stability/test_extremes.py), 1e8 times its start, then falling
+#: 3-fold an iteration
+WANDERING = [3.2, 0.28, 0.28, 0.32, 0.41, 0.38, 0.75, 0.88, 1.8, 1.8, 2.3, 1.3, 0.65,
+             3.1, 2.3, 0.74, 5.7, 0.91, 2.4, 2.0, 1.4, 2.0, 4.0, 4.2, 3.4, 2.9, 3.2, 4.1, 3.2,
+             3.7, 4.4, 3.0, 4.8, 3.5, 2.6, 9.2, 4.4, 7.3, 3.0, 7.6, 6.6, 2.6, 3.6, 14, 6.2, 28,
+             9.6, 20, 34, 470]
+TWO_CYCLE = [1.9, 0.15, 0.18, 0.14, 0.18, 0.14, 0.18, 0.14, 0.18, 0.14]
+OFF_THE_BRANCH = [27.9, 2.21, 0.0171, 0.0298, 1.33e5, 1.69e4, 2.26e3, 335, 50, 3.77, 0.0339,
+                  6e-4, 2e-7, 1e-11]
+TOO_LARGE = [3.86e8 / 3.4 ** k for k in range(25)]
+
+
+def test_a_stalled_newton_is_recognised():
+    """A Newton solve whose last STALL_ITERATIONS iterates have not gone
+    below the lowest of the STALL_ITERATIONS before them has stalled: the
+    28-fibre sample's wandering solve after 16 of its 50 iterations; not a
+    converging history, nor one that jumps and then falls, however slowly,
+    nor the 2-cycle that the cycle test finds first."""
+    from textile.solver import cycling
+    from textile.solver.convergence import CYCLE_PERIOD, STALL_ITERATIONS, stalled
+    assert STALL_ITERATIONS == 2 * CYCLE_PERIOD
+
+    def first_stall(norms):
+        return next((k for k in range(len(norms) + 1) if stalled(norms[:k])), None)
+    assert first_stall(WANDERING) == 2 * STALL_ITERATIONS
+    for converging in (OFF_THE_BRANCH, TOO_LARGE, [10.0 ** -k for k in range(12)],
+                       [0.97 ** k for k in range(60)], TWO_CYCLE):
+        assert first_stall(converging) is None
+    assert cycling([1.7] + TWO_CYCLE)

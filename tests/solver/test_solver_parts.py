@@ -10,7 +10,8 @@ from petsc4py import PETSc
 
 import textile
 from textile.solver import (DIVERGED_EFFECTS_UNSETTLED, DIVERGED_NEWTON_CYCLE,  # noqa: F401
-                            Attempt, ConvergenceError, Solver, SolverOptions,
+                            DIVERGED_NEWTON_STALL, Attempt, ConvergenceError, Solver,
+                            SolverOptions,
                             StabilityWarning, StepRecord, cycling, reason_name)
 from textile.solver.contact_loop import ContactLoop
 from textile.solver.newton import Newton, new_counts
@@ -107,6 +108,25 @@ def test_a_cycling_solve_goes_on_with_a_line_search(monkeypatch, line_search):
     assert newton.counts["newton_iterations"] == result.iterations
     assert CANTILEVER_ITERATIONS - 1 <= result.iterations <= CANTILEVER_ITERATIONS + 3
     assert len(result.residual_norms) == result.iterations + 2  # each solve's initial norm
+
+
+def test_a_stalled_solve_fails_at_once(monkeypatch):
+    """A solve that has stalled (convergence.stalled, given the residuals
+    after the first) fails there, with no line search, and says so."""
+    import textile.solver.newton as newton_module
+    histories = []
+
+    def stalls_at_the_third(norms):
+        histories.append(list(norms))
+        return len(histories) == 3
+    monkeypatch.setattr(newton_module, "stalled", stalls_at_the_third)
+    model, newton = _newton_at_full_load(SolverOptions(**QUIET))
+    result = newton.solve(model.x)
+    assert result.reason == DIVERGED_NEWTON_STALL, reason_name(result.reason)
+    assert reason_name(result.reason) == "DIVERGED_NEWTON_STALL"
+    assert result.iterations == 2 and "have not gone below" in result.message
+    assert newton.counts["cycle_line_searches"] == 0
+    assert histories == [[], result.residual_norms[1:2], result.residual_norms[1:3]]
 
 
 def test_capped_solves_that_cycle_together_go_on_with_a_line_search(monkeypatch):

@@ -56,8 +56,9 @@ from .linear_solver import LinearSolver, event_counts  # noqa: F401
 from .newton import (CYCLE_ITERATIONS, CYCLE_PERIOD, CYCLE_TOLERANCE,  # noqa: F401
                      Newton, NewtonResult, _forget_options, cycling, new_counts)
 from .options import (_OWN_REASONS, DIVERGED_EFFECTS_UNSETTLED,  # noqa: F401
-                      DIVERGED_NEWTON_CYCLE, Attempt, ConvergenceError, StabilityWarning,
-                      SolverOptions, StepRecord, reason_name, say)
+                      DIVERGED_NEWTON_CYCLE, DIVERGED_NEWTON_STALL, Attempt,
+                      ConvergenceError, StabilityWarning, SolverOptions, StepRecord,
+                      reason_name, say)
 from .branch_switching import max_op  # noqa: F401
 from .stability_check import StabilityCheck  # noqa: F401
 from .stages import STAGE_OPTIONS, Stages

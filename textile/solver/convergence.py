@@ -139,3 +139,30 @@ def cycling(norms: list[float]) -> bool:
                for a, b in zip(h[period:], h[:-period])):
             return True
     return False
+
+
+#: A Newton solve whose last STALL_ITERATIONS iterates have not gone below
+#: the lowest of the STALL_ITERATIONS before them has stalled: an iterate
+#: wandering among contact sets, or a cycle longer than CYCLE_PERIOD, and
+#: its attempt fails at once, not at max_it (the 6 x 6 sample of 28-fibre
+#: bundles: a solve wandered between 0.28 and 470, its first residual 1.7,
+#: for 50 iterations and 15 matrix rebuilds, where half the step converges
+#: in 5; past a bar's limit load, 20 iterations). The solve's first
+#: residual (the predictor's, a perturbation's) is not an iterate and does
+#: not count; a residual that jumps and then falls steadily, however
+#: slowly, never stalls (the first
+#: iterate of a rotation 100 times too large is 1e8 times the start, a
+#: column pushed off its unstable branch jumps 1e7-fold before it settles
+#: on the buckled one). Twice the longest period the cycle test looks for:
+#: the cycle test, which needs 8-10 iterations, names a cycle first
+#: (benchmarks/README.md, "Newton solves that stall").
+STALL_ITERATIONS = 2 * CYCLE_PERIOD
+STALL_MESSAGE = (f"its last {STALL_ITERATIONS} residuals have not gone below the "
+                 f"{STALL_ITERATIONS} before them")
+
+
+def stalled(norms: list[float]) -> bool:
+    """Has this Newton solve stalled? ``norms``: its residual norm at each
+    iteration, the first (before any Newton update) excluded."""
+    n = STALL_ITERATIONS
+    return len(norms) >= 2 * n and min(norms[-n:]) >= min(norms[-2 * n:-n])

@@ -18,18 +18,17 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from .convergence import (CYCLE_ITERATIONS, CYCLE_PERIOD, CYCLE_TOLERANCE,  # noqa: F401
-                          GroupTolerances, cycling)
+                          STALL_MESSAGE, GroupTolerances, cycling, stalled)
 from .kept_residual import KeptResidual
 from .linear_solver import LinearSolver
-from .options import DIVERGED_NEWTON_CYCLE, SolverOptions, say
+from .options import DIVERGED_NEWTON_CYCLE, DIVERGED_NEWTON_STALL, SolverOptions, say
 
 
 def _forget_options(prefix: str) -> None:
     """Remove every option of the PETSc database that starts with prefix."""
     opts = PETSc.Options()
-    for name in list(opts.getAll()):
-        if name.startswith(prefix):
-            opts.delValue(name)
+    for name in [n for n in opts.getAll() if n.startswith(prefix)]:
+        opts.delValue(name)
 
 
 #: numbers the PETSc option prefixes of the solvers (textile1_, textile2_, ...)
@@ -72,8 +71,7 @@ class Newton:
         self.system = system
         self.options = options
         self.comm = system.comm
-        o = options
-        self.tolerances = GroupTolerances(o.rtol, o.atol, o.floor_factor)
+        self.tolerances = GroupTolerances(options.rtol, options.atol, options.floor_factor)
         groups = system.residual_groups
         self.scales = np.array([groups.scale[n] for n in groups.names])
         self.prefix = f"textile{next(_prefixes)}_"
@@ -84,7 +82,8 @@ class Newton:
         #: was the last factorization the exact tangent of a state close to
         #: the last iterate? (see converged; textile.solver.stability_check)
         self.factor_near = False
-        self.cycled = False
+        # the last solve cycled, stalled; its residual norms after the first
+        self.cycled, self.stalled, self._solve_norms = False, False, []
         #: did the solve stop because the matrix has no room for the
         #: iterate's couplings (system.matrix_stale, see _converged)?
         self.outgrown = False
@@ -177,6 +176,7 @@ class Newton:
             self._f0 = fnorm
             self._fnorms = []
         self._fnorms.append(fnorm)
+        self._solve_norms += [fnorm] if it > 0 else []  # (a restart's first: the last again)
         # a negligible update converges, unless the iterate blew up (a tiny
         # step relative to a huge solution must not accept |r| = 1e29)
         if it > 0 and ynorm <= o.stol * xnorm and fnorm <= self._f0:
@@ -190,6 +190,9 @@ class Newton:
             # from this iterate with a rebuilt matrix instead
             self.outgrown = True
             return PETSc.SNES.ConvergedReason.DIVERGED_MAX_IT
+        if stalled(self._solve_norms):
+            self.stalled = True  # as a cycle: solve names it
+            return PETSc.SNES.ConvergedReason.DIVERGED_DTOL
         if cycling(self._fnorms):
             self.cycled = True  # solve names it (SNES knows no such reason)
             return PETSc.SNES.ConvergedReason.DIVERGED_DTOL
@@ -211,7 +214,7 @@ class Newton:
         with the cycle line search from the start (the solves before this
         one cycled)."""
         m, o = self.system, self.options
-        result = NewtonResult()
+        result, self._solve_norms = NewtonResult(), []  # over the solve's restarts (stalled)
         capped = 0 < cap < o.max_it
         budget = cap if capped else o.max_it
         spent = 0  # by SNES solves stopped for a matrix rebuild or a cycle
@@ -222,7 +225,7 @@ class Newton:
             self._line_search(o.cycle_line_search)
         for retry in range(o.max_it):
             self.counts["newton_solves"] += 1
-            self.cycled = self.outgrown = False
+            self.cycled = self.outgrown = self.stalled = False
             self.cap = budget - spent if capped or spent else 0  # read by _converged
             try:
                 self.snes.solve(None, x)
@@ -247,6 +250,8 @@ class Newton:
                 result.reason = DIVERGED_NEWTON_CYCLE
                 result.message = ("the residual repeats itself (contact or "
                                   "stick-slip switches flipping, or stuck)")
+            if self.stalled:
+                result.reason, result.message = DIVERGED_NEWTON_STALL, STALL_MESSAGE
             if self.outgrown and spent + its < budget:
                 spent += its
                 self.counts["matrix_rebuilds_in_newton"] += 1

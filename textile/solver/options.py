@@ -25,8 +25,10 @@ class StabilityWarning(UserWarning):
 #: Reasons of a failed attempt that are not SNES's own.
 DIVERGED_EFFECTS_UNSETTLED = -200
 DIVERGED_NEWTON_CYCLE = -201
+DIVERGED_NEWTON_STALL = -202
 _OWN_REASONS = {DIVERGED_EFFECTS_UNSETTLED: "DIVERGED_EFFECTS_UNSETTLED",
-                DIVERGED_NEWTON_CYCLE: "DIVERGED_NEWTON_CYCLE"}
+                DIVERGED_NEWTON_CYCLE: "DIVERGED_NEWTON_CYCLE",
+                DIVERGED_NEWTON_STALL: "DIVERGED_NEWTON_STALL"}
 
 
 def reason_name(reason: int) -> str:
@@ -62,8 +64,8 @@ class SolverOptions(Options):
         or below atol times its force scale (the largest fibre E*A; times the
         largest radius for section vectors). Or: the Newton update is below
         stol times the solution (relative). max_it: Newton iterations per
-        solve; a solve whose residual repeats itself (``cycling``) stops
-        before, as DIVERGED_NEWTON_CYCLE.
+        solve; one whose residual repeats itself (``cycling``) stops before,
+        as DIVERGED_NEWTON_CYCLE, one that stalls as DIVERGED_NEWTON_STALL.
     line_search:
         SNES line search; "basic" (full Newton steps, default): the residual
         norm mixes forces on positions and on section vectors, which misleads
