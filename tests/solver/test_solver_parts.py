@@ -13,6 +13,7 @@ from textile.solver import (DIVERGED_EFFECTS_UNSETTLED, DIVERGED_NEWTON_CYCLE,  
                             DIVERGED_NEWTON_STALL, Attempt, ConvergenceError, Solver,
                             SolverOptions,
                             StabilityWarning, StepRecord, cycling, reason_name)
+from textile.effects.base import Effect
 from textile.solver.contact_loop import ContactLoop
 from textile.solver.newton import Newton, new_counts
 from textile.solver.stability_check import StabilityCheck
@@ -127,6 +128,48 @@ def test_a_stalled_solve_fails_at_once(monkeypatch):
     assert result.iterations == 2 and "have not gone below" in result.message
     assert newton.counts["cycle_line_searches"] == 0
     assert histories == [[], result.residual_norms[1:2], result.residual_norms[1:3]]
+
+
+class _Unsettled(Effect):
+    """An effect that changes by ``changes[k]`` (in units of its tolerance)
+    at its k-th update of an attempt, the last value ever after."""
+
+    fields = ("beam",)
+
+    def __init__(self, changes):
+        self.changes, self.k = list(changes), 0
+
+    def prepare(self, model):
+        self.k = 0
+
+    def update(self, model):
+        self.k += 1
+        return self.update_change() > 1
+
+    def update_change(self):
+        return self.changes[min(self.k, len(self.changes)) - 1]
+
+
+def test_a_contact_loop_that_cycles_fails_at_once():
+    """Passes whose changes repeat with a period (the effects alternating
+    between states: the 6 x 6 sample of 28-fibre bundles spent 137 Newton
+    iterations in 20 passes of 11.3, 14.8, 11.3, ...) fail the attempt as
+    soon as the Newton cycle test sees the period in the changes, not after
+    max_updates; changes that keep falling run on to max_updates."""
+    fib, model = cantilever()
+    model.add_effect(_Unsettled([20, 16, 13] + [11.3, 14.8] * 20))
+    loop = ContactLoop(set_up(model, SolverOptions(**QUIET)))
+    attempt = loop.step_to(1.0)
+    assert attempt.reason == DIVERGED_EFFECTS_UNSETTLED and not attempt.converged
+    # period 2 in the last 8 changes, the first two never counted: pass 11
+    assert attempt.updates == 11 and "cycling after 11 Newton solves" in attempt.message
+    assert "11.3, 14.8, 11.3" in attempt.message
+    fib, model = cantilever()
+    model.add_effect(_Unsettled([40 * 0.9 ** k for k in range(40)]))
+    loop = ContactLoop(set_up(model, SolverOptions(**QUIET)))
+    attempt = loop.step_to(1.0)
+    assert attempt.reason == DIVERGED_EFFECTS_UNSETTLED
+    assert attempt.updates == 20 and "still changing after 20 Newton solves" in attempt.message
 
 
 def test_capped_solves_that_cycle_together_go_on_with_a_line_search(monkeypatch):

@@ -14,7 +14,7 @@ import numpy as np
 from petsc4py import PETSc
 
 from .. import _cpp
-from .convergence import cycling
+from .convergence import cycling, effects_cycling
 from .newton import Newton
 from .options import DIVERGED_EFFECTS_UNSETTLED, Attempt
 
@@ -133,6 +133,9 @@ class ContactLoop:
         # only from effects set at a converged state, which keeps it to
         # round-off on any number of ranks)
         set_at_converged = True
+        # the effects' change after each solve run to convergence: a loop
+        # that cycles between effect states (contact sets) fails at once
+        settled_changes = []
         for outer in range(1, o.max_updates + 1):
             attempt.updates = outer
             if self.comm.allreduce(m.matrix_stale):
@@ -162,15 +165,26 @@ class ContactLoop:
                 attempt.reason = PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
                 attempt.message = f"updating effects: {error}"
                 return attempt
-            attempt.passes.append((result.iterations,
-                                   max((e.update_change() for e in m.effects), default=0.0)))
+            change = max((e.update_change() for e in m.effects), default=0.0)
+            attempt.passes.append((result.iterations, change))
             if not changed and not result.capped and set_at_converged:
                 attempt.converged = True
                 return attempt
             set_at_converged = not result.capped
+            if not result.capped:
+                settled_changes.append(change)
+                if effects_cycling(settled_changes):
+                    attempt.reason = DIVERGED_EFFECTS_UNSETTLED
+                    attempt.message = self._unsettled(attempt,
+                                                      f"cycling after {outer} Newton solves")
+                    return attempt
         attempt.reason = DIVERGED_EFFECTS_UNSETTLED
-        changes = ", ".join(f"{c:.3g}" for _, c in attempt.passes[-5:])
-        attempt.message = (f"effects (contact elements, normals, penalties) still changing "
-                           f"after {o.max_updates} Newton solves (the last changes, in units "
-                           f"of their tolerance: {changes})")
+        attempt.message = self._unsettled(attempt, f"still changing after {o.max_updates} "
+                                                   f"Newton solves")
         return attempt
+
+    @staticmethod
+    def _unsettled(attempt: Attempt, how: str) -> str:
+        changes = ", ".join(f"{c:.3g}" for _, c in attempt.passes[-5:])
+        return (f"effects (contact elements, normals, penalties) {how} (the last changes, "
+                f"in units of their tolerance: {changes})")

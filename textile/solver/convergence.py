@@ -166,3 +166,13 @@ def stalled(norms: list[float]) -> bool:
     iteration, the first (before any Newton update) excluded."""
     n = STALL_ITERATIONS
     return len(norms) >= 2 * n and min(norms[-n:]) >= min(norms[-2 * n:-n])
+
+
+def effects_cycling(changes: list[float]) -> bool:
+    """Do the effects' changes after successive Newton solves run to
+    convergence within one load step (ContactLoop: contact elements,
+    normals, penalties, in units of their tolerance) repeat with a period of
+    1 to CYCLE_PERIOD solves? The Newton cycle test on them: states that
+    repeat give changes that repeat, and the step fails at once instead of
+    after max_updates solves."""
+    return cycling(changes)
