@@ -16,6 +16,10 @@ NAN = float("nan")
                                   "max_penalty_change"])
 @pytest.mark.parametrize("value", [-1.0, 0.0, NAN, float("inf"), "2", None, True])
 def test_positive_options(name, value):
+    if name == "update_tolerance" and value == float("inf"):
+        # a contact loop that lags (FibreContact.configure)
+        assert FibreContact({name: value}).options.update_tolerance == value
+        return
     with pytest.raises(ValueError, match=f"ContactOptions.{name} must be a positive number"):
         FibreContact({name: value})
 

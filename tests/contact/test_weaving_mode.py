@@ -177,9 +177,12 @@ def test_update_tolerance_is_a_stage_option():
     contact.configure(update_tolerance=1e-2)
     assert contact.options.update_tolerance == 1e-2
     assert options.update_tolerance == 1e-3
-    for bad in (0.0, -1.0, float("nan"), True, "1e-2"):
+    for bad in (0.0, -1.0, float("nan"), -float("inf"), True, "1e-2"):
         with pytest.raises(ValueError, match="update_tolerance must be a number > 0"):
             contact.configure(update_tolerance=bad)
+    # inf: a loop that lags (the lifting weave's path with a drag)
+    contact.configure(update_tolerance=float("inf"))
+    assert contact.update_tolerance() == float("inf")
     # a callable of the stage's load factor (a drag's fading: its path loose,
     # its last step as the relaxation)
     contact.configure(update_tolerance=lambda s: 1e-3 if s >= 1 else 1e-2)

@@ -140,7 +140,8 @@ class ContactOptions(Options):
         After a converged Newton, the elements are re-detected and re-normaled
         at the new state; another Newton is run when the contact forces of the
         new set differ from the old set's, at that state, by more than this
-        fraction of their norm (loops 1-2 of docs/method.md §9.2).
+        fraction of their norm (loops 1-2 of docs/method.md §9.2); math.inf:
+        the loop lags (:meth:`FibreContact.configure`).
     """
 
     search_factor: float = 2.0
@@ -168,7 +169,11 @@ class ContactOptions(Options):
         # number (True == 1) or a number for a bool would pass the C++
         # conversion or a comparison silently, or fail there unnamed
         self.require_positive("search_factor", "regularization", "target_penetration",
-                              "reversible_slip", "update_tolerance", "max_penalty_change")
+                              "reversible_slip", "max_penalty_change")
+        v = self.update_tolerance
+        if not (_real(v) or v == math.inf) or not v > 0:
+            raise ValueError(f"ContactOptions.update_tolerance must be a positive number or "
+                             f"math.inf, got {v!r}")
         for name in ("spacing", "penalty"):
             v = getattr(self, name)
             if v is not None and not (_real(v) and 0 < v < math.inf):
@@ -211,11 +216,11 @@ def _real(v) -> bool:
 
 
 def _loop_tolerance(v) -> float:
-    """The stage option update_tolerance's value (a number > 0), or a
-    ValueError."""
-    if not _real(v) or not v > 0:
-        raise ValueError(f"FibreContact: update_tolerance must be a number > 0 (or a callable "
-                         f"of the stage's load factor giving one), got {v!r}")
+    """The stage option update_tolerance's value (a number > 0, or math.inf:
+    a loop that lags, FibreContact.configure), or a ValueError."""
+    if not (_real(v) or v == math.inf) or not v > 0:
+        raise ValueError(f"FibreContact: update_tolerance must be a number > 0 or math.inf (or "
+                         f"a callable of the stage's load factor giving one), got {v!r}")
     return float(v)
 
 
@@ -382,7 +387,12 @@ class FibreContact(Effect):
         (``ContactOptions.update_tolerance``) from this stage on; a stage
         whose path is artificial (the lifting weave's settling, its drag's
         fading before the last step) may take a looser one than the states
-        that are answers. A callable is evaluated at each update, at the
+        that are answers. ``math.inf``: the loop *lags*: a step is accepted
+        after its first converged Newton solve unless contact forces appear
+        where there were none or fibres crossed; the elements, normals and
+        penalties that update found act from the next step, and penalties
+        are retuned within the step only where fibres crossed. A callable is
+        evaluated at each update, at the
         load factor of the step being solved; the stages after its own go
         on with its value at s = 1."""
         if unknown:
@@ -750,14 +760,17 @@ class FibreContact(Effect):
         return (_reduce(comm, self.set.zone_penalty(), MPI.MAX),
                 _reduce(comm, self.set.zone_max_penetration(), MPI.MAX))
 
-    def _retune(self, in_step: bool) -> int:
+    def _retune(self, in_step: bool, zones: np.ndarray | None = None) -> int:
         """Apply the penalty rule (see PenaltyAdaptation in C++) to every
-        zone at the set's last evaluation; the number of zones changed."""
+        zone (or to those where ``zones`` is True) at the set's last
+        evaluation; the number of zones changed."""
         if not self.options.adapt_penalty or self.set.num_zones == 0:
             return 0
         k, p = self._zone_state()
         rule = self.adaptation.in_step if in_step else self.adaptation.between_steps
         new = rule(k, p)
+        if zones is not None:
+            new = np.where(zones, new, k)
         changed = int(np.count_nonzero(new != k))
         if changed:
             self.set.set_zone_penalties(new)
@@ -781,22 +794,23 @@ class FibreContact(Effect):
         self._rebuild(state, reset_normals=self._reset_normals)
         self._first_solve = True
 
-    def _check_crossed(self) -> None:
+    def _check_crossed(self) -> np.ndarray:
         """After a converged Newton solve, at the set's evaluation: fibres
         whose centre lines lie on the wrong side of each other along the
         normal have passed through each other. Their zone's penalty is
         raised by the in-step retune when it can be; when it cannot
         (adapt_penalty off, or at the top of penalty_range), the state is
-        refused: GeometryError, the step is cut."""
+        refused: GeometryError, the step is cut. Returns, per zone, whether
+        its fibres crossed."""
         comm = self.model.comm
         crossed = _reduce(comm, self.set.zone_crossed(), MPI.SUM) > 0
         if not np.any(crossed):
-            return
+            return crossed
         k, _ = self._zone_state()
         stuck = crossed & ~(self.options.adapt_penalty
                             & (k < self.adaptation.k_max * (1 - 1e-12)))
         if not np.any(stuck):
-            return
+            return crossed
         d = self.set.data()
         mine = np.flatnonzero(stuck[d["zone"]] & (d["separation"] < 0)) \
             if len(d["zone"]) else np.zeros(0, dtype=int)
@@ -818,8 +832,11 @@ class FibreContact(Effect):
         self.updates += 1
         state = model.state()
         self.set.evaluate(self._positions(state, count=False))
-        self._check_crossed()
-        emergency = self._retune(in_step=True)
+        crossed = self._check_crossed()
+        # a loop that lags (update_tolerance inf): within the step, only
+        # zones whose fibres crossed are retuned (and solved again)
+        lagged = self.update_tolerance() == math.inf
+        emergency = self._retune(in_step=True, zones=crossed if lagged else None)
         self.emergency_retunes += emergency
         changed = self._rebuild(state, persist=True) or emergency > 0
         if emergency and not self._change > 1.0:
