@@ -22,7 +22,9 @@ step is the relaxation"); the paper's 28-fibre bundles with ``--free-length
 2 --weaving '{"pull": "fibre", "amplitude": 0.45, "drag": 0.1,
 "lifting_drag": 0.1, "viscous_settling": true, "viscous_fading": true}'``
 (benchmarks/README.md, "The paper's sample of 28-fibre bundles": not yet
-woven to the end); their woven states go to
+woven to the end; with ``"lagged_path": true`` added it settles 2.6 times
+sooner to s = 0.78, "A contact loop that lags on the drag's path"); their
+woven states go to
 ``output/weave_sample_<pattern>_<fibres>_<packing>.h5``, the flat-row
 sample's keep their name. Each woven state's pictures (the sample in 3D
 and from above, cuts across warp and weft) go to a directory of the
