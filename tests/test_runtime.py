@@ -32,3 +32,25 @@ def test_describe_on_one_rank_does_not_block():
     if MPI.COMM_WORLD.rank == 0:
         assert "rank(s) on" in textile.runtime.describe()
     MPI.COMM_WORLD.Barrier()
+
+
+@pytest.mark.mpi
+def test_waiting_ranks_sleep_instead_of_spinning():
+    # while rank 0 draws the pictures (a VTK process of its own) the other
+    # ranks wait in waiting_quietly; a blocking MPI barrier would spin,
+    # using its core for the whole wait (measured: ~0.3 s of CPU in 0.3 s)
+    import time
+    from mpi4py import MPI
+    comm = MPI.COMM_WORLD
+    late = 0.3
+    if comm.rank == 0:
+        time.sleep(late)
+    cpu, wall = time.process_time(), time.perf_counter()
+    textile.runtime.waiting_quietly(comm)
+    cpu, wall = time.process_time() - cpu, time.perf_counter() - wall
+    if comm.size > 1 and comm.rank > 0:
+        assert wall > 0.5 * late                 # it did wait for rank 0
+        # measured ~0.01 s of CPU (polls every 5 ms); a spinning wait ~0.3 s
+        assert cpu < 0.25 * late, (cpu, wall)
+    else:
+        assert wall < late                       # nobody to wait for

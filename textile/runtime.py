@@ -14,6 +14,7 @@ from __future__ import annotations
 import ctypes
 import functools
 import os
+import time
 
 from mpi4py import MPI
 
@@ -89,3 +90,16 @@ def limit_blas_threads() -> int:
     if threads < lib.openblas_get_num_threads():
         lib.openblas_set_num_threads(ctypes.c_int(threads))
     return int(lib.openblas_get_num_threads())
+
+
+def waiting_quietly(comm, poll: float = 0.005) -> None:
+    """A barrier whose waiting ranks sleep (polling every ``poll``
+    seconds) rather than spin as MPI's blocking calls do: while one rank
+    works with helpers of its own (the pictures' VTK process, whose
+    rasterizer runs a thread per core), the others leave it the cores.
+    Collective."""
+    if comm.size == 1:
+        return
+    request = comm.Ibarrier()
+    while not request.Test():
+        time.sleep(poll)

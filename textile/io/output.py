@@ -30,7 +30,9 @@ fibres .vtu as point and cell arrays. Pictures of the final state
 :mod:`textile.io.sample_pictures`) are drawn from the written fibres file
 when a stage ends (or the run fails, or on :meth:`Output.finish`), never
 while a stage is being solved; a picture that fails is a warning, never a
-lost result.
+lost result. Rank 0 draws them; at a stage's end the other ranks wait for
+it without spinning (:func:`textile.runtime.waiting_quietly`), leaving
+their cores to the VTK process that renders the 3D views.
 """
 from __future__ import annotations
 
@@ -45,6 +47,7 @@ from ..beam.fibre_loads import (FIGURES, element_loads, fibre_maxima, gathered_e
                                 top_fibres)
 from . import PVDSeries, ResultsLog, SceneSeries, write_fibres_vtu
 from ..effects.base import stage_ended
+from ..runtime import waiting_quietly
 
 _VOIGT = ("11", "22", "33", "23", "13", "12")
 # arrays Output writes itself: a fibre_data array may not take their names
@@ -182,7 +185,20 @@ class Output:
         if write_vtu:
             self._written_steps.add(record.step)
         if model.comm.rank != 0:
+            if stage_end:
+                waiting_quietly(model.comm)   # while rank 0 draws
             return
+        try:
+            self._write_step_root(model, record, q, element_fields, contacts, blocks,
+                                  write_vtu, stage_end, extra)
+        finally:
+            if stage_end:
+                waiting_quietly(model.comm)
+
+    def _write_step_root(self, model, record, q, element_fields, contacts, blocks, write_vtu,
+                         stage_end, extra) -> None:
+        """Rank 0's part of :meth:`write_step`: the files, and the
+        pictures at a stage's end."""
         if contacts is not None and len(contacts["gap"]):
             self._write_contacts(record, contacts)
         mesh = model.mesh
@@ -322,10 +338,12 @@ class Output:
                 per_element = element_loads(model.mesh, q[:, 0:3], element_fields)
                 self._write_fibres(model.mesh, q, element_fields, per_element,
                                    fibre_maxima(model.mesh, per_element), (step, time))
-        if model.comm.rank != 0 or not self.pictures:
-            return
-        self._drawn_step = None
-        self._draw_due()
+        try:
+            if model.comm.rank == 0 and self.pictures:
+                self._drawn_step = None
+                self._draw_due()
+        finally:
+            waiting_quietly(model.comm)   # the other ranks, while rank 0 draws
 
     def _draw_due(self) -> None:
         """Rank 0: "last": the pictures of the last written step, unless

@@ -249,6 +249,18 @@ def render(job: dict) -> None:
     window.Finalize()
 
 
+def use_every_core() -> None:
+    """Let this process run on every core: started from an MPI rank, it
+    inherits the rank's binding to one core (Open MPI binds ranks to
+    cores), where llvmpipe's rasterizing threads would share that core with
+    the rank while the other ranks' cores wait idle."""
+    try:
+        os.sched_setaffinity(0, range(os.cpu_count() or 1))
+    except (AttributeError, OSError):
+        pass     # no affinity on this system, or a core we may not use
+
+
 if __name__ == "__main__":
+    use_every_core()
     with open(sys.argv[1]) as f:
         render(json.load(f))
