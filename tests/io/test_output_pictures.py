@@ -41,6 +41,9 @@ def test_a_failed_run_gets_pictures_of_its_last_converged_state(tmp_path, no_vtk
     pictures = meta(tmp_path)["pictures"]
     assert set(pictures) == {"sample.png", "sample_top.png", "cut.png"}
     assert {p["step"] for p in pictures.values()} == {len(solver.history)}
+    # how long the drawing took, the same for the pictures drawn together
+    assert len({p["seconds"] for p in pictures.values()}) == 1
+    assert 0 < pictures["cut.png"]["seconds"] < 60
     assert len(list(tmp_path.glob("fibres_*.vtu"))) == len(solver.history)
 
 

@@ -37,6 +37,7 @@ their cores to the VTK process that renders the 3D views.
 from __future__ import annotations
 
 import os
+import time
 import warnings
 from collections.abc import Mapping
 
@@ -363,6 +364,7 @@ class Output:
         failures are warnings."""
         from .render import RenderingWarning
         from .sample_pictures import draw_vtu_pictures
+        start = time.perf_counter()
         try:
             drawn, errors = draw_vtu_pictures(vtu, self.directory, self._yarn_axes, suffix,
                                               self.picture_size)
@@ -370,8 +372,12 @@ class Output:
             drawn, errors = {}, [f"{type(e).__name__}: {e}"]
         if not suffix:
             self._drawn_step = step
+        # seconds: of the drawing that made it (the pictures of a step are
+        # drawn together, the 3D views in a process beside the cuts)
+        seconds = time.perf_counter() - start
         self._log.set_meta(pictures={**self._log.meta.get("pictures", {}),
-                                     **{k: dict(step=step, drawn_by=v) for k, v in drawn.items()}})
+                                     **{k: dict(step=step, drawn_by=v, seconds=seconds)
+                                        for k, v in drawn.items()}})
         for error in errors:
             message = f"picture not drawn: {error}"
             warnings.warn(message, RenderingWarning, stacklevel=2)
