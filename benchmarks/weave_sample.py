@@ -33,7 +33,11 @@ at each crossing, the fibre curvature's distribution; ``--from-state``
 makes both again from the saved states, without weaving; ``--side-by-side``
 puts a sample's cuts and figures beside the flat-row sample's. A long weave
 with ``--checkpoint`` saves its state after every step; ``--resume`` goes
-on from there (its row counts the steps, iterations and time of both).
+on from there (its row counts the steps, iterations and time of both);
+``--keep-steps`` keeps every step's state, and ``--motion`` then says how
+far each lies from the woven state (the yarns' own motion, axial and
+vertical, and the fibres' within their yarn: benchmarks/README.md, "Where
+the 28-fibre weave's motion happens").
 
 The figures of benchmarks/README.md (2 ranks): the plain weave with
 ``--patterns plain --solver '{"low_rank_tolerance": 1e-8}'`` (since
@@ -145,17 +149,19 @@ class Checkpoint:
     the run did so far (steps, counters, wall time), ``.json`` beside it:
     ``--resume`` goes on from there, and its figures count both parts."""
 
-    def __init__(self, state: str, comm, earlier: dict | None = None):
+    def __init__(self, state: str, comm, earlier: dict | None = None, keep: bool = False):
         stem = state.removesuffix(".h5")
         self.h5, self.json, self.comm = stem + "_checkpoint.h5", stem + "_checkpoint.json", comm
         self.earlier = earlier or dict(steps=[], counters={}, wall_seconds=0.0)
         self.t0 = time.perf_counter()
+        #: a directory keeping every step's state (``--keep-steps``), else None
+        self.steps = stem + "_steps" if keep else None
 
     @classmethod
-    def resumed(cls, state: str, model, solver, comm):
+    def resumed(cls, state: str, model, solver, comm, keep: bool = False):
         """Load the checkpoint of ``state`` into ``model`` and ``solver``: the
         attributes load_state returned, and the checkpoint."""
-        c = cls(state, comm)
+        c = cls(state, comm, keep=keep)
         with open(c.json) as f:
             c.earlier = json.load(f)
         attrs = textile.load_state(model, c.h5, solver)
@@ -171,6 +177,11 @@ class Checkpoint:
 
     def __call__(self, solver, rec) -> None:
         textile.save_state(solver.model, self.h5, solver)
+        if self.steps is not None:
+            if self.comm.rank == 0:
+                os.makedirs(self.steps, exist_ok=True)
+            self.comm.barrier()
+            textile.save_state(solver.model, os.path.join(self.steps, f"step_{rec.step:04d}.h5"))
         if self.comm.rank == 0:
             with open(self.json, "w") as f:
                 json.dump(self.so_far(solver), f, default=float)
@@ -180,7 +191,7 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
           solver_options: dict, comm, weaving_steps: int = 5,
           free_length: float | None = None, crossing_patch: int = 2,
           weaving_options: dict | None = None, checkpoint: bool = False,
-          resume: bool = False) -> dict:
+          resume: bool = False, keep_steps: bool = False) -> dict:
     fabric = sample_fabric(pattern, fibres, yarns, elements, spacing, packing, free_length)
     weaving = Weaving(fabric, steps=weaving_steps, comm=comm,
                       contact=dict(crossing_patch=crossing_patch), **(weaving_options or {}))
@@ -188,11 +199,12 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
     state = os.path.join(OUT, woven_name(pattern, fibres, packing))
     error = ""
     t0 = time.perf_counter()
-    saving = Checkpoint(state, comm) if checkpoint or resume else None
+    saving = Checkpoint(state, comm, keep=keep_steps) \
+        if checkpoint or resume or keep_steps else None
     solver = textile.Solver(model, dict(solver_options, verbose=comm.rank == 0), on_step=saving)
     resumed = None
     if resume:
-        resumed, saving = Checkpoint.resumed(state, model, solver, comm)
+        resumed, saving = Checkpoint.resumed(state, model, solver, comm, keep_steps)
         solver.on_step = saving
     try:
         solver.run(weaving.stages(), resumed=resumed)
@@ -221,6 +233,61 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
                 counters=run["counters"] if run else solver.counters, steps=steps,
                 resumed=bool(resume), summary=summary, error=error,
                 **{k: v for k, v in figures.items() if k != "sections"})
+
+
+def motion_to_woven(fabric: Fabric, state: str, comm) -> list[dict]:
+    """How far each step's state kept by ``--keep-steps`` lies from the
+    woven state ``state``, in fibre radii: the root mean square and the
+    largest node distance, split into the yarns' own motion (the mean over
+    a yarn's fibres, node by node: a bundle moving as a whole), its axial
+    and vertical parts, and the fibres' motion relative to their yarn's
+    (rearrangement within the yarn). Printed and written to
+    ``<state>_steps/motion.json`` (rank 0); collective."""
+    stem = state.removesuffix(".h5")
+    directory = stem + "_steps"
+    with open(stem + "_checkpoint.json") as f:
+        where = {s["step"]: (s["stage"], s["load_factor"]) for s in json.load(f)["steps"]}
+
+    def positions(path: str):
+        model = textile.Model(fabric.fibres(), comm=comm)
+        textile.load_fibres(model, path)
+        return model, model.nodal_unknowns()[:, :3]
+
+    model, woven = positions(state)
+    yarns = [np.stack([model.mesh.fibre_nodes(int(f))
+                       for f in np.flatnonzero(fabric.fibre_yarn == k)])
+             for k in range(fabric.num_yarns)]
+    rows = []
+    for name in sorted(n for n in os.listdir(directory) if n.startswith("step_")):
+        step = int(name[5:9])
+        d = woven - positions(os.path.join(directory, name))[1]
+        own, axial, vertical, relative = 0.0, 0.0, 0.0, 0.0
+        for k, nodes in enumerate(yarns):
+            a, b = fabric.yarn_axis(k)
+            mean = d[nodes].mean(axis=0)                       # (nodes along, 3)
+            own += len(nodes) * (mean ** 2).sum()
+            axial += len(nodes) * ((mean @ ((b - a) / np.linalg.norm(b - a))) ** 2).sum()
+            vertical += len(nodes) * (mean[:, 2] ** 2).sum()
+            relative += ((d[nodes] - mean) ** 2).sum()
+        n, r = len(d), R
+        stage, t = where.get(step, ("?", float("nan")))
+        rows.append(dict(step=step, stage=stage, load_factor=t,
+                         rms=float(np.sqrt((d ** 2).sum() / n) / r),
+                         max=float(np.linalg.norm(d, axis=1).max() / r),
+                         yarns=float(np.sqrt(own / n) / r), axial=float(np.sqrt(axial / n) / r),
+                         vertical=float(np.sqrt(vertical / n) / r),
+                         within_yarns=float(np.sqrt(relative / n) / r)))
+    if comm.rank == 0:
+        print(f"distance to the woven state, in fibre radii\n{'step':>5} {'stage':<11} "
+              f"{'t':>7} {'rms':>6} {'max':>6} {'yarns':>6} {'axial':>6} {'vert.':>6} "
+              f"{'within':>6}")
+        for w in rows:
+            print(f"{w['step']:5d} {w['stage']:<11} {w['load_factor']:7.4f} {w['rms']:6.2f} "
+                  f"{w['max']:6.2f} {w['yarns']:6.2f} {w['axial']:6.2f} {w['vertical']:6.2f} "
+                  f"{w['within_yarns']:6.2f}")
+        with open(os.path.join(directory, "motion.json"), "w") as f:
+            json.dump(rows, f, indent=1)
+    return rows
 
 
 def side_by_side(pattern: str, fibres: int, packing: str, runs: list[dict]) -> None:
@@ -324,6 +391,13 @@ def main():
     parser.add_argument("--resume", action="store_true",
                         help="go on from the checkpoint a --checkpoint run of these options "
                              "left (and keep checkpointing)")
+    parser.add_argument("--keep-steps", action="store_true",
+                        help="checkpoint, and keep every step's state in "
+                             "output/<state>_steps/ (for --motion)")
+    parser.add_argument("--motion", action="store_true",
+                        help="no weaving: how far each step kept by --keep-steps lies from "
+                             "the woven state (yarns' own motion, axial and vertical, and "
+                             "within the yarns), in fibre radii")
     parser.add_argument("--side-by-side", action="store_true",
                         help="no weaving: the flat-row sample and this one (woven and measured "
                              "before), their cuts in one picture and their figures side by side")
@@ -339,6 +413,13 @@ def main():
             for pattern in args.patterns:
                 side_by_side(pattern, args.fibres, args.packing, runs)
         return
+    if args.motion:
+        for pattern in args.patterns:
+            motion_to_woven(sample_fabric(pattern, args.fibres, args.yarns, args.elements,
+                                          args.spacing, args.packing, args.free_length),
+                            os.path.join(OUT, woven_name(pattern, args.fibres, args.packing)),
+                            comm)
+        return
     if args.from_state:
         for pattern in args.patterns:
             from_state(sample_fabric(pattern, args.fibres, args.yarns, args.elements,
@@ -353,7 +434,8 @@ def main():
     for pattern in args.patterns:
         r = weave(pattern, args.fibres, args.yarns, args.elements, args.spacing, args.packing,
                   args.solver, comm, args.weaving_steps, args.free_length,
-                  args.crossing_patch, args.weaving, args.checkpoint, args.resume)
+                  args.crossing_patch, args.weaving, args.checkpoint, args.resume,
+                  args.keep_steps)
         r.update(date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), ranks=comm.size,
                  machine=runtime.describe())
         runs.append(r)
