@@ -157,6 +157,15 @@ class Checkpoint:
         #: a directory keeping every step's state (``--keep-steps``), else None
         self.steps = stem + "_steps" if keep else None
 
+    def forget_steps(self) -> None:
+        """A run from the start: the states an earlier run kept go (they
+        would mix with this run's in ``--motion``)."""
+        if self.steps is not None and self.comm.rank == 0 and os.path.isdir(self.steps):
+            for name in os.listdir(self.steps):
+                if name.startswith("step_") or name == "motion.json":
+                    os.remove(os.path.join(self.steps, name))
+        self.comm.barrier()
+
     @classmethod
     def resumed(cls, state: str, model, solver, comm, keep: bool = False):
         """Load the checkpoint of ``state`` into ``model`` and ``solver``: the
@@ -201,6 +210,8 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
     t0 = time.perf_counter()
     saving = Checkpoint(state, comm, keep=keep_steps) \
         if checkpoint or resume or keep_steps else None
+    if saving is not None and not resume:
+        saving.forget_steps()
     solver = textile.Solver(model, dict(solver_options, verbose=comm.rank == 0), on_step=saving)
     resumed = None
     if resume:
