@@ -259,23 +259,26 @@ def motion_to_woven(fabric: Fabric, state: str, comm) -> list[dict]:
     with open(stem + "_checkpoint.json") as f:
         where = {s["step"]: (s["stage"], s["load_factor"]) for s in json.load(f)["steps"]}
 
-    def positions(path: str):
-        model = textile.Model(fabric.fibres(), comm=comm)
-        textile.load_fibres(model, path)
-        return model, model.nodal_unknowns()[:, :3]
+    model = textile.Model(fabric.fibres(), comm=comm)
 
-    model, woven = positions(state)
+    def load(path: str):
+        """Node positions and yarn centre lines (measures.yarn_centrelines) of a state."""
+        textile.load_fibres(model, path)
+        return model.nodal_unknowns()[:, :3], measures.yarn_centrelines(fabric, model)
+
+    woven, woven_yarns = load(state)
     yarns = [np.stack([model.mesh.fibre_nodes(int(f))
                        for f in np.flatnonzero(fabric.fibre_yarn == k)])
              for k in range(fabric.num_yarns)]
     rows = []
     for name in sorted(n for n in os.listdir(directory) if n.startswith("step_")):
         step = int(name[5:9])
-        d = woven - positions(os.path.join(directory, name))[1]
+        x, lines = load(os.path.join(directory, name))
+        d = woven - x
         own, axial, vertical, relative = 0.0, 0.0, 0.0, 0.0
         for k, nodes in enumerate(yarns):
             a, b = fabric.yarn_axis(k)
-            mean = d[nodes].mean(axis=0)                       # (nodes along, 3)
+            mean = woven_yarns[k] - lines[k]                    # (nodes along, 3)
             own += len(nodes) * (mean ** 2).sum()
             axial += len(nodes) * ((mean @ ((b - a) / np.linalg.norm(b - a))) ** 2).sum()
             vertical += len(nodes) * (mean[:, 2] ** 2).sum()
