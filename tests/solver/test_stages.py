@@ -62,6 +62,39 @@ def test_hold_a_force_while_a_displacement_ramps_then_release(tmp_path):
     assert np.all(np.diff(times) > 0) and times[-1] == pytest.approx(3.0)
 
 
+def bent_in_a_stage(path_rtol: float):
+    """The cantilever, its tip force 10 times the moderate one (the tip
+    rises to 0.71 L), in one stage of 4 steps."""
+    fib = textile.straight_fibre([0, 0, 0], [L, 0, 0], R, textile.Material(E, NU),
+                                 num_elements=8, section_vector=[0, 1, 0])
+    model = textile.Model(fib, comm=MPI.COMM_SELF)
+    model.clamp(fib, 0)
+    model.add_force(fib, -1, [0, 0, 10 * F])
+    solver = textile.Solver(model, dict(initial_step=0.25, max_step=0.25, verbose=False,
+                                        path_rtol=path_rtol))
+    solver.run([textile.Stage("load")])
+    return model, solver
+
+
+def test_a_stage_path_to_a_looser_tolerance_ends_on_the_full_one():
+    """SolverOptions.path_rtol: a stage's steps before its end stop once
+    each group's residual has fallen that much within the Newton solve; the
+    stage's end meets the full test. Elastic, so the end state is the same."""
+    full, full_solver = bent_in_a_stage(0.0)
+    loose, loose_solver = bent_in_a_stage(1e-3)
+    its = lambda s: [h.newton_iterations for h in s.history]  # noqa: E731
+    # measured [5, 5, 4, 4] and [5, 3, 3, 4]: the middle steps stop 2
+    # iterations earlier, the first (its residual falls from a straight
+    # fibre's) and the last as before
+    assert its(full_solver) == [5, 5, 4, 4]
+    assert its(loose_solver) == [5, 3, 3, 4]
+    # the same end state to the full test's accuracy (measured 1e-16 L)
+    assert np.abs(loose.nodal_unknowns() - full.nodal_unknowns()).max() < 1e-10 * L
+    # the end's residuals as small as the full run's (to the test's rtol)
+    end = loose_solver.history[-1].residuals["positions"]
+    assert end <= 1e-10 * 10 * F + 1e-13 * E * np.pi * R ** 2
+
+
 def test_a_stage_needs_the_previous_one_finished():
     fib, model, force = cantilever()
     solver = textile.Solver(model, dict(verbose=False))

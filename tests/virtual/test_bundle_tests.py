@@ -67,7 +67,9 @@ def test_the_bundles_friction_is_released_not_removed(woven):
     # pair); 2%: the woven state follows the weave's contact-loop path
     assert np.linalg.norm(forces[:, 0:3]) == pytest.approx(1.9039, rel=0.02)
     result = test.run()
-    # to the end (in 8 steps: the first 1/4 step folds an element and is cut)
+    # to the end (measured: 4 steps of 1/4, none failed; from the woven
+    # state of a weave solved to the full tolerance all along, 7 steps and
+    # 3 failed attempts)
     assert result.steps[-1]["load_factor"] == pytest.approx(1.0) and len(result.steps) >= 4
     # released by the end of the first stage
     assert held.scale() == 0.0
@@ -80,8 +82,11 @@ def test_the_bundles_friction_is_released_not_removed(woven):
     straight = 2 * 3 * FIBRE.young * math.pi * R ** 2 / width
     stiffness = result.figures["membrane stiffness (force per width per strain)"]
     assert 0 < stiffness < straight
-    # Newton: measured 22-24 iterations (4 contact passes) a loading step
-    assert max(s["newton_iterations"] for s in result.steps) <= 30
+    # Newton: measured 18-34 iterations a loading step, 104 in all (from
+    # the full-tolerance weave's state: 10-22 a step, 187 in all with the
+    # failed attempts); +20% allowed
+    assert max(s["newton_iterations"] for s in result.steps) <= 40
+    assert result.counters["newton_iterations"] <= 125
 
 
 def test_removed_at_once_the_bundles_fold(woven, monkeypatch):

@@ -156,6 +156,11 @@ class Weaving:
         every step size) and takes 765 against 693 when only the lifting
         and the settling lag (benchmarks/README.md, "A contact loop that
         lags on the drag's path").
+    path_rtol:
+        Lifting: Newton's tolerance before each stage's end
+        (``SolverOptions.path_rtol``; default ``PATH_RTOL``; 0: every step to
+        the full tolerance). Each stage's end, the woven state among them,
+        meets the full tolerance.
     newton_per_pass:
         Lifting: Newton iterations between contact updates in its stages
         (``SolverOptions.newton_per_pass``; 0: each Newton solve to
@@ -235,6 +240,15 @@ class Weaving:
     #: (measured: benchmarks/README.md, "Contact passes with capped Newton
     #: solves"; tests/weave/test_weaving.py holds the counts)
     NEWTON_PER_PASS = 3
+    #: Newton's tolerance within the lifting weave's stages, before each
+    #: stage's end (SolverOptions.path_rtol): a residual fallen 1000-fold
+    #: in a Newton solve is enough on a path whose states are no answer;
+    #: every stage's end, the woven state among them, to the full
+    #: tolerance. 22% fewer Newton iterations on the 2 x 2 weave of 7-fibre
+    #: bundles, 21% 1.5 widths apart, the same woven state to 0.1% of its
+    #: crimp (1e-4: 13% and 18% fewer; benchmarks/README.md, "Newton on
+    #: the weave's path to a looser tolerance")
+    PATH_RTOL = 1e-3
     #: with capped passes no step is easy (SolverOptions.easy_iterations):
     #: after a cut, steps grow again after this many in a row at one size
     #: (SolverOptions.regrow_after); without it a stage went on at its
@@ -272,7 +286,8 @@ class Weaving:
                  amplitude: float = 0.55, drag: float = 0.0, lifting_drag: float = 0.0,
                  viscous_fading: bool = False, viscous_settling: bool = False,
                  drag_within_yarns: bool = False, lagged_path: bool = False,
-                 newton_per_pass: int | None = None, pull: str = "yarn",
+                 newton_per_pass: int | None = None, path_rtol: float | None = None,
+                 pull: str = "yarn",
                  preset: str | None = None, comm=MPI.COMM_WORLD, partition: str = "place"):
         if not isinstance(fabric, Fabric):
             raise TypeError(f"Weaving: fabric must be a textile.fabric.Fabric, got "
@@ -349,6 +364,13 @@ class Weaving:
                              "Newton solves run to convergence: it needs a drag or lifting_drag "
                              "> 0 and newton_per_pass 0")
         self.lagged_path = lagged_path
+        if path_rtol is None:
+            path_rtol = self.PATH_RTOL
+        if isinstance(path_rtol, bool) or not isinstance(path_rtol, numbers.Real) \
+                or not 0 <= path_rtol < 1:
+            raise ValueError(f"Weaving: path_rtol is in [0, 1) (0: every step to the full "
+                             f"tolerance), got {path_rtol!r}")
+        self.path_rtol = float(path_rtol)
         fibres = fabric.fibres()
         self.model = Model(fibres, element=element, comm=comm, partition=partition)
         self.contact = FibreContact(contact, fibre_yarn=fabric.fibre_yarn,
@@ -417,7 +439,8 @@ class Weaving:
         README.md, "The fading's last step is the relaxation")."""
         if self.method == "lifting":
             stiffness, passes = self.HEDDLE_STIFFNESS, self.newton_per_pass
-            stepping = dict(newton_per_pass=passes, regrow_after=self.REGROW_AFTER)
+            stepping = dict(newton_per_pass=passes, regrow_after=self.REGROW_AFTER,
+                            path_rtol=self.path_rtol)
             lifting = weaving_mode(self.fabric, "within_yarns")
             if self._lags(self.lifting_drag):
                 lifting["update_tolerance"] = self.LAGGED_PATH
@@ -471,7 +494,7 @@ class Weaving:
                                               if self.viscous_fading else None)},
                        solver=dict(relaxation.solver, initial_step=1.0 / self.FADING_STEPS,
                                    max_step=1.0 / self.FADING_STEPS,
-                                   regrow_after=self.REGROW_AFTER,
+                                   regrow_after=self.REGROW_AFTER, path_rtol=self.path_rtol,
                                    **({"min_step": self.VISCOUS_FADING_MIN_STEP}
                                       if self.viscous_fading else {})))
         return [lifting, settling, fading]

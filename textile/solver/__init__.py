@@ -17,8 +17,8 @@ its traceback.
 
 The parts, each a module of this package:
 
-- :mod:`.options`: :class:`SolverOptions`, :class:`Attempt`,
-  :class:`StepRecord`, the failure reasons and the errors;
+- :mod:`.options`: :class:`SolverOptions`, the failure reasons and the
+  errors; :mod:`.records`: :class:`Attempt` and :class:`StepRecord`;
 - :mod:`.newton`: one Newton solve (SNES, linear solver, convergence test,
   cycle detection), :class:`~.newton.Newton`;
 - :mod:`.contact_loop`: one load-step attempt (effects prepare, predictor,
@@ -56,9 +56,9 @@ from .linear_solver import LinearSolver, event_counts  # noqa: F401
 from .newton import (CYCLE_ITERATIONS, CYCLE_PERIOD, CYCLE_TOLERANCE,  # noqa: F401
                      Newton, NewtonResult, _forget_options, cycling, new_counts)
 from .options import (_OWN_REASONS, DIVERGED_EFFECTS_UNSETTLED,  # noqa: F401
-                      DIVERGED_NEWTON_CYCLE, DIVERGED_NEWTON_STALL, Attempt,
-                      ConvergenceError, StabilityWarning, SolverOptions, StepRecord,
-                      reason_name, say)
+                      DIVERGED_NEWTON_CYCLE, DIVERGED_NEWTON_STALL,
+                      ConvergenceError, StabilityWarning, SolverOptions, reason_name, say)
+from .records import Attempt, StepRecord  # noqa: F401
 from .branch_switching import max_op  # noqa: F401
 from .stability_check import StabilityCheck  # noqa: F401
 from .stages import STAGE_OPTIONS, Stages

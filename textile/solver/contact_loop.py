@@ -16,7 +16,8 @@ from petsc4py import PETSc
 from .. import _cpp
 from .convergence import cycling, effects_cycling
 from .newton import Newton
-from .options import DIVERGED_EFFECTS_UNSETTLED, Attempt
+from .options import DIVERGED_EFFECTS_UNSETTLED
+from .records import Attempt
 
 
 class ContactLoop:
@@ -136,6 +137,10 @@ class ContactLoop:
         # the effects' change after each solve run to convergence: a loop
         # that cycles between effect states (contact sets) fails at once
         settled_changes = []
+        # Newton to SolverOptions.path_rtol (before a stage's end) until the
+        # loop cycles: the changes a loose solve leaves can keep the loop
+        # just above its tolerance, which full solves settle
+        path = o.path_rtol > 0
         for outer in range(1, o.max_updates + 1):
             attempt.updates = outer
             if self.comm.allreduce(m.matrix_stale):
@@ -147,7 +152,7 @@ class ContactLoop:
             capped = outer <= o.max_updates // 2
             # capped solves too short to show a cycle may make one together
             result = self.newton.solve(m.x, o.newton_per_pass if capped else 0,
-                                       search=cycling(attempt.residual_norms))
+                                       search=cycling(attempt.residual_norms), path=path)
             attempt.reason = result.reason
             if result.message:
                 attempt.message = result.message
@@ -173,7 +178,9 @@ class ContactLoop:
             set_at_converged = not result.capped
             if not result.capped:
                 settled_changes.append(change)
-                if effects_cycling(settled_changes):
+                if effects_cycling(settled_changes) and path:
+                    path, settled_changes = False, []
+                elif effects_cycling(settled_changes):
                     attempt.reason = DIVERGED_EFFECTS_UNSETTLED
                     attempt.message = self._unsettled(attempt,
                                                       f"cycling after {outer} Newton solves")

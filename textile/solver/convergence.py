@@ -99,17 +99,33 @@ class GroupTolerances:
     atol: float = 1e-13
     floor_factor: float = 10.0
     floor_update: float = 1e-8
+    #: the current solve's SolverOptions.path_rtol and its groups' first
+    #: residuals (begin_solve)
+    path_rtol: float = 0.0
+    start: np.ndarray | None = None
+
+    def begin_solve(self, path_rtol: float) -> None:
+        """A Newton solve begins: its path tolerance (SolverOptions.path_rtol,
+        0: none); its first residuals are those converged() sees first."""
+        self.path_rtol, self.start = path_rtol, None
 
     def converged(self, norms: np.ndarray, reference: np.ndarray, floors, scales: np.ndarray,
-                  settled: bool = True) -> np.ndarray:
+                  settled: bool = True, on_path: bool = False) -> np.ndarray:
         """Per group: is the residual below its threshold? ``floors``: a
         callable giving the groups' |(|K||q|)_g| (or None), called only when
         the other tests leave a group unconverged. ``settled``: the last
         Newton update was negligible; only then does the round-off floor
         count (a residual can dip to the floor of the stiff axial forces in
         the middle of an oscillating Newton sequence while a compliant mode,
-        e.g. the bending of a very slender fibre, is still far off)."""
+        e.g. the bending of a very slender fibre, is still far off).
+        ``on_path`` (a step before its stage's end): a group whose residual
+        fell below path_rtol times its first in the solve has converged
+        too (SolverOptions.path_rtol)."""
+        if self.start is None:
+            self.start = np.array(norms, dtype=float)
         limit = np.maximum(self.rtol * reference, self.atol * scales)
+        if on_path and self.path_rtol > 0:
+            limit = np.maximum(limit, self.path_rtol * self.start)
         ok = norms <= limit
         if not np.all(ok) and settled and floors is not None:
             f = floors()

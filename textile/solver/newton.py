@@ -4,8 +4,7 @@ test (:mod:`textile.solver.convergence`) and cycle detection.
 
 :class:`Newton` solves the model at its current load factor from the
 current iterate, nothing else: no prediction, no effects' updates, no step
-control (:mod:`textile.solver.contact_loop` and
-:mod:`textile.solver.stepping`).
+control (:mod:`textile.solver.contact_loop`, :mod:`textile.solver.stepping`).
 """
 from __future__ import annotations
 
@@ -75,8 +74,7 @@ class Newton:
         groups = system.residual_groups
         self.scales = np.array([groups.scale[n] for n in groups.names])
         self.prefix = f"textile{next(_prefixes)}_"
-        # PETSc's options database is global and bounded (error 55 once
-        # full): a solver's prefixed options go with it
+        # PETSc's options database is bounded (error 55 once full): ours go with the solver
         weakref.finalize(self, _forget_options, self.prefix)
         self.counts = counts if counts is not None else new_counts()
         #: was the last factorization the exact tangent of a state close to
@@ -169,8 +167,8 @@ class Newton:
         reference = m.force_reference.copy()
         reference[m.residual_groups.names.index("constraints")] = self._q_norm
         floors = lambda: m.floors(snes.getSolution())  # noqa: E731 (collective, on demand)
-        if np.all(self.tolerances.converged(g, reference, floors, self.scales,
-                                            settled)):
+        if np.all(self.tolerances.converged(g, reference, floors, self.scales, settled,
+                                            on_path=m.load_factor < 1.0 - 1e-14)):
             return PETSc.SNES.ConvergedReason.CONVERGED_FNORM_ABS
         if it == 0:
             self._f0 = fnorm
@@ -205,16 +203,18 @@ class Newton:
         self._kept_residual = None
         self.snes.setJacobian(self._jacobian, *self.linear.operators(A))
 
-    def solve(self, x: PETSc.Vec, cap: int = 0, search: bool = False) -> NewtonResult:
+    def solve(self, x: PETSc.Vec, cap: int = 0, search: bool = False,
+              path: bool = True) -> NewtonResult:
         """Newton from x (changed in place) at the model's load factor; a
         failed linear solve is retried with more MUMPS workspace or, after
         GMRES on a reused or approximate factorization, a fresh one.
         ``cap`` > 0: stop after at most that many iterations (unconverged:
         ``NewtonResult.capped``; SolverOptions.newton_per_pass). ``search``:
         with the cycle line search from the start (the solves before this
-        one cycled)."""
+        one cycled). ``path``: SolverOptions.path_rtol holds (False: not)."""
         m, o = self.system, self.options
         result, self._solve_norms = NewtonResult(), []  # over the solve's restarts (stalled)
+        self.tolerances.begin_solve(o.path_rtol if path else 0.0)
         capped = 0 < cap < o.max_it
         budget = cap if capped else o.max_it
         spent = 0  # by SNES solves stopped for a matrix rebuild or a cycle

@@ -1,7 +1,7 @@
-"""What a solver run is told and what it reports: :class:`SolverOptions`,
-the outcome of one load-step attempt (:class:`Attempt`), the record of a
-converged step (:class:`StepRecord`), the reasons a step fails (SNES's own
-and the solver's, :func:`reason_name`) and the solver's errors."""
+"""What a solver run is told: :class:`SolverOptions`; the reasons a step
+fails (SNES's own and the solver's, :func:`reason_name`), the solver's
+errors and its progress lines (what it reports of each attempt and step:
+:mod:`textile.solver.records`)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -66,6 +66,16 @@ class SolverOptions(Options):
         stol times the solution (relative). max_it: Newton iterations per
         solve; one whose residual repeats itself (``cycling``) stops before,
         as DIVERGED_NEWTON_CYCLE, one that stalls as DIVERGED_NEWTON_STALL.
+    path_rtol:
+        Newton's tolerance on a stage's path, for stages whose states before
+        their end are no answer (a weave's heddles letting go, a drag
+        fading): a step before the stage's end (load factor < 1) has
+        converged when every group's residual has fallen below path_rtol
+        times its value at the start of the Newton solve (or meets the test
+        above); the stage's end to the full test. 0 (default): every step
+        to the full test. The lifting weave uses 1e-3
+        (:class:`textile.fabric.Weaving`; benchmarks/README.md, "Newton on
+        the weave's path to a looser tolerance").
     line_search:
         SNES line search; "basic" (full Newton steps, default): the residual
         norm mixes forces on positions and on section vectors, which misleads
@@ -180,6 +190,7 @@ class SolverOptions(Options):
     floor_factor: float = 10.0
     stol: float = 1e-10
     max_it: int = 25
+    path_rtol: float = 0.0
     line_search: str = "basic"
     cycle_line_search: str = "l2"
     newton: str = "mip"
@@ -233,63 +244,12 @@ class SolverOptions(Options):
             if not isinstance(getattr(self, name), bool):
                 raise ValueError(f"SolverOptions.{name} must be True or False, "
                                  f"got {getattr(self, name)!r}")
+        v = self.path_rtol
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 <= v < 1:
+            raise ValueError(f"SolverOptions.path_rtol must be in [0, 1), got {v!r}")
         if not (isinstance(self.low_rank_tolerance, (int, float))
                 and 0 <= self.low_rank_tolerance < 1):
             raise ValueError("SolverOptions.low_rank_tolerance must be in [0, 1)")
-
-
-@dataclass
-class StepRecord:
-    """Statistics of one converged load step."""
-
-    step: int
-    load_factor: float
-    newton_iterations: int
-    attempts: int
-    residual_norms: list
-    wall_time: float
-    converged_reason: int
-    energy: float
-    updates: int = 1
-    effects: dict = field(default_factory=dict)
-    #: per group: residual norm at convergence (see textile.solver.convergence)
-    residuals: dict = field(default_factory=dict)
-    #: negative eigenvalues of the tangent (None: not checked), the
-    #: factorization's negative pivots and the zero-energy motions told
-    #: apart from them (None: not searched, no negative pivot), and whether
-    #: the step was moved to another branch (textile.stability.inertia)
-    stability: dict = field(default_factory=dict)
-    #: the stage this step belongs to, and the run's time (stage number +
-    #: the stage's load factor: continuous over stages)
-    stage: str = "load"
-    time: float = 0.0
-    #: per contact pass of the converged attempt: (Newton iterations, the
-    #: largest effect change after it in units of its tolerance)
-    passes: list = field(default_factory=list)
-
-    @property
-    def reason(self) -> str:
-        """The SNES converged reason in words."""
-        return reason_name(self.converged_reason)
-
-
-@dataclass
-class Attempt:
-    """What one attempt at a load step did."""
-
-    converged: bool
-    iterations: int = 0
-    residual_norms: list = field(default_factory=list)
-    reason: int = 0
-    updates: int = 0
-    message: str = ""
-    #: per contact pass: (its Newton iterations, the largest effect change
-    #: after it in units of the effect's tolerance; Effect.update_change)
-    passes: list = field(default_factory=list)
-
-    def describe(self) -> str:
-        text = f"{reason_name(self.reason)} after {self.iterations} Newton iterations"
-        return f"{text}: {self.message}" if self.message else text
 
 
 def say(options: SolverOptions, comm, msg: str) -> None:

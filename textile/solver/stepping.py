@@ -17,7 +17,8 @@ from petsc4py import PETSc
 
 from ..scene.loading import Stage
 from .contact_loop import ContactLoop
-from .options import ConvergenceError, SolverOptions, StepRecord, say
+from .options import ConvergenceError, SolverOptions, say
+from .records import StepRecord
 from .stability_check import StabilityCheck
 
 
