@@ -170,3 +170,31 @@ def test_a_stalled_newton_is_recognised():
                        [0.97 ** k for k in range(60)], TWO_CYCLE):
         assert first_stall(converging) is None
     assert cycling([1.7] + TWO_CYCLE)
+
+
+def test_the_path_tolerance_is_relative_to_the_steps_start():
+    """SolverOptions.path_rtol: a step's solves after a contact update
+    converge relative to the step's first residuals, not to their own
+    start; relative to each solve's own start, the 1.5-width 7-fibre weave's
+    capped passes ran out the contact loop's first half (a settling step of
+    43 Newton iterations in 12 solves at path_rtol 0.05: each pass fell
+    below the last but never by path_rtol of its own start)."""
+    from textile.solver.convergence import GroupTolerances
+    tol = GroupTolerances()
+    reference, scales = np.array([1.0, 1.0]), np.array([1.0, 1.0])
+
+    def converged(norms, on_path=True):
+        return bool(np.all(tol.converged(np.array(norms), reference, None, scales,
+                                         on_path=on_path)))
+    tol.begin_solve(0.05)
+    assert not converged([1.0, 2.0])            # the step's first residuals
+    assert not converged([0.2, 0.2])
+    tol.begin_solve(0.05, same_step=True)       # after a contact update
+    assert converged([0.04, 0.09])              # below 0.05 x (1, 2)
+    tol.begin_solve(0.05)                       # the next step: its own start
+    assert not converged([0.04, 0.09])
+    assert converged([0.001, 0.004])
+    # a stage's end (on_path False): the full test only
+    tol.begin_solve(0.05)
+    assert not converged([1.0, 2.0], on_path=False)
+    assert not converged([0.04, 0.09], on_path=False)

@@ -67,9 +67,10 @@ def test_the_bundles_friction_is_released_not_removed(woven):
     # pair); 2%: the woven state follows the weave's contact-loop path
     assert np.linalg.norm(forces[:, 0:3]) == pytest.approx(1.9039, rel=0.02)
     result = test.run()
-    # to the end (measured: 4 steps of 1/4, none failed; from the woven
-    # state of a weave solved to the full tolerance all along, 7 steps and
-    # 3 failed attempts)
+    # to the end (measured from three woven states of the same weave, each
+    # converged to the full tolerance but by other paths, so with other
+    # stick states: 4 steps of 1/4 and none failed, or 7 steps and 3 failed
+    # attempts)
     assert result.steps[-1]["load_factor"] == pytest.approx(1.0) and len(result.steps) >= 4
     # released by the end of the first stage
     assert held.scale() == 0.0
@@ -82,11 +83,12 @@ def test_the_bundles_friction_is_released_not_removed(woven):
     straight = 2 * 3 * FIBRE.young * math.pi * R ** 2 / width
     stiffness = result.figures["membrane stiffness (force per width per strain)"]
     assert 0 < stiffness < straight
-    # Newton: measured 18-34 iterations a loading step, 104 in all (from
-    # the full-tolerance weave's state: 10-22 a step, 187 in all with the
-    # failed attempts); +20% allowed
+    # Newton, with the failed attempts, from those three states: 104 (18-34
+    # a step), 171 (11-22 a step; the weave's path tolerance relative to
+    # the step's start) and 187 (10-22 a step; every weaving step to the
+    # full tolerance); +20% allowed
     assert max(s["newton_iterations"] for s in result.steps) <= 40
-    assert result.counters["newton_iterations"] <= 125
+    assert result.counters["newton_iterations"] <= 225
 
 
 def test_removed_at_once_the_bundles_fold(woven, monkeypatch):

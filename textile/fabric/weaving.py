@@ -242,12 +242,14 @@ class Weaving:
     NEWTON_PER_PASS = 3
     #: Newton's tolerance within the lifting weave's stages, before each
     #: stage's end (SolverOptions.path_rtol): a residual fallen 1000-fold
-    #: in a Newton solve is enough on a path whose states are no answer;
-    #: every stage's end, the woven state among them, to the full
-    #: tolerance. 22% fewer Newton iterations on the 2 x 2 weave of 7-fibre
-    #: bundles, 21% 1.5 widths apart, the same woven state to 0.1% of its
-    #: crimp (1e-4: 13% and 18% fewer; benchmarks/README.md, "Newton on
-    #: the weave's path to a looser tolerance")
+    #: in a step is enough on a path whose states are no answer; every
+    #: stage's end, the woven state among them, to the full tolerance. 29%
+    #: fewer Newton iterations on the 2 x 2 weave of 7-fibre bundles, 36%
+    #: 1.5 widths apart, the same woven state to 0.1% of its crimp (1e-4
+    #: relative to each solve's start: 13% and 18% fewer; 0.05 and 0.1
+    #: fewer still on the first, but steps of 40 iterations on the second;
+    #: benchmarks/README.md, "Newton on the weave's path to a looser
+    #: tolerance" and "... relative to the step's start")
     PATH_RTOL = 1e-3
     #: with capped passes no step is easy (SolverOptions.easy_iterations):
     #: after a cut, steps grow again after this many in a row at one size

@@ -153,7 +153,8 @@ class ContactLoop:
             capped = outer <= o.max_updates // 2
             # capped solves too short to show a cycle may make one together
             result = self.newton.solve(m.x, o.newton_per_pass if capped else 0,
-                                       search=cycling(attempt.residual_norms), path=path)
+                                       search=cycling(attempt.residual_norms), path=path,
+                                       same_step=outer > 1)
             attempt.reason = result.reason
             if result.message:
                 attempt.message = result.message

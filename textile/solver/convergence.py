@@ -99,15 +99,21 @@ class GroupTolerances:
     atol: float = 1e-13
     floor_factor: float = 10.0
     floor_update: float = 1e-8
-    #: the current solve's SolverOptions.path_rtol and its groups' first
-    #: residuals (begin_solve)
+    #: the current solve's SolverOptions.path_rtol and its step's groups'
+    #: first residuals (begin_solve)
     path_rtol: float = 0.0
     start: np.ndarray | None = None
 
-    def begin_solve(self, path_rtol: float) -> None:
+    def begin_solve(self, path_rtol: float, same_step: bool = False) -> None:
         """A Newton solve begins: its path tolerance (SolverOptions.path_rtol,
-        0: none); its first residuals are those converged() sees first."""
-        self.path_rtol, self.start = path_rtol, None
+        0: none). The residuals the path tolerance is relative to are the
+        first converged() sees in the step: ``same_step``, a solve after a
+        contact update within the step, keeps them (relative to each solve's
+        own start, the passes of a step would each have to fall by
+        path_rtol again, a target that recedes pass after pass)."""
+        self.path_rtol = path_rtol
+        if not same_step:
+            self.start = None
 
     def converged(self, norms: np.ndarray, reference: np.ndarray, floors, scales: np.ndarray,
                   settled: bool = True, on_path: bool = False) -> np.ndarray:
@@ -119,7 +125,7 @@ class GroupTolerances:
         the middle of an oscillating Newton sequence while a compliant mode,
         e.g. the bending of a very slender fibre, is still far off).
         ``on_path`` (a step before its stage's end): a group whose residual
-        fell below path_rtol times its first in the solve has converged
+        fell below path_rtol times its first in the step has converged
         too (SolverOptions.path_rtol)."""
         if self.start is None:
             self.start = np.array(norms, dtype=float)

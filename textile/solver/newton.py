@@ -204,17 +204,17 @@ class Newton:
         self.snes.setJacobian(self._jacobian, *self.linear.operators(A))
 
     def solve(self, x: PETSc.Vec, cap: int = 0, search: bool = False,
-              path: bool = True) -> NewtonResult:
+              path: bool = True, same_step: bool = False) -> NewtonResult:
         """Newton from x (changed in place) at the model's load factor; a
         failed linear solve is retried with more MUMPS workspace or, after
         GMRES on a reused or approximate factorization, a fresh one.
         ``cap`` > 0: stop after at most that many iterations (unconverged:
         ``NewtonResult.capped``; SolverOptions.newton_per_pass). ``search``:
         with the cycle line search from the start (the solves before this
-        one cycled). ``path``: SolverOptions.path_rtol holds (False: not)."""
+        one cycled). ``path``, ``same_step``: GroupTolerances.begin_solve."""
         m, o = self.system, self.options
         result, self._solve_norms = NewtonResult(), []  # over the solve's restarts (stalled)
-        self.tolerances.begin_solve(o.path_rtol if path else 0.0)
+        self.tolerances.begin_solve(o.path_rtol if path else 0.0, same_step)
         capped = 0 < cap < o.max_it
         budget = cap if capped else o.max_it
         spent = 0  # by SNES solves stopped for a matrix rebuild or a cycle

@@ -71,8 +71,8 @@ class SolverOptions(Options):
         their end are no answer (a weave's heddles letting go, a drag
         fading): a step before the stage's end (load factor < 1) has
         converged when every group's residual has fallen below path_rtol
-        times its value at the start of the Newton solve (or meets the test
-        above); the stage's end to the full test. 0 (default): every step
+        times its value at the step's first Newton iteration (or meets the
+        test above); the stage's end to the full test. 0 (default): every step
         to the full test. The lifting weave uses 1e-3
         (:class:`textile.fabric.Weaving`; benchmarks/README.md, "Newton on
         the weave's path to a looser tolerance").
