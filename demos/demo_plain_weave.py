@@ -23,7 +23,7 @@ yarn lies on top at each crossing. The solver *weaves* the fabric
 3. **relaxation**: no heddles: the woven state.
 
 The yarns' tails are one spacing long (lifted, the yarns crimp by up to
-20% before they settle). About 30 s on 2 cores (``bash .ci/demo`` runs it
+20% before they settle). About 20 s on 2 cores (``bash .ci/demo`` runs it
 on two ranks). Twills and twisted bundles weave with a pseudo-time drag
 (``Weaving(drag=..., lifting_drag=...)``, docs/method.md §6.4).
 
@@ -58,7 +58,7 @@ What to look at
 
 Run: ``mpirun -n 2 python3 demos/demo_plain_weave.py [--output DIR]
 [--fibres N] [--packing P] [--elements N] [--spacing S] [--amplitude A]``
-(about 30 s on 2 ranks, 40 s on one; a few seconds with ``--fibres 1
+(about 20 s on 2 ranks, 30 s 1.5 widths apart; a few seconds with ``--fibres 1
 --spacing 6``). Bundles 1.5 widths apart weave with the heddles lifting
 less, ``--spacing 1.5 --amplitude 0.45`` (at the default 0.55 the lifted
 yarns, steeper, fold elements and the lifting stage stops at 0.95;
