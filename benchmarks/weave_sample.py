@@ -67,12 +67,16 @@ R = 0.1e-3
 MAT = textile.Material(5.0e9, 0.35)
 
 
-def woven_name(pattern: str, fibres: int, packing: str) -> str:
+def woven_name(pattern: str, fibres: int, packing: str, yarns: int = 6) -> str:
     """The woven state's file name (in OUT): the flat-row sample's keeps
-    its name, other yarns' carry their fibre count and packing."""
+    its name, other yarns' carry their fibre count and packing, and a
+    sample of other than 6 x 6 yarns its size (two sizes' runs overwrote
+    each other's states and checkpoints)."""
     name = pattern.replace(" ", "_").replace("/", "-")
     if (fibres, packing) != (28, "layers 1"):
         name += f"_{fibres}_{packing.replace(' ', '')}"
+    if yarns != 6:
+        name += f"_{yarns}x{yarns}"
     return f"weave_sample_{name}.h5"
 
 
@@ -205,7 +209,7 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
     weaving = Weaving(fabric, steps=weaving_steps, comm=comm,
                       contact=dict(crossing_patch=crossing_patch), **(weaving_options or {}))
     model = weaving.model
-    state = os.path.join(OUT, woven_name(pattern, fibres, packing))
+    state = os.path.join(OUT, woven_name(pattern, fibres, packing, yarns))
     error = ""
     t0 = time.perf_counter()
     saving = Checkpoint(state, comm, keep=keep_steps) \
@@ -304,7 +308,8 @@ def motion_to_woven(fabric: Fabric, state: str, comm) -> list[dict]:
     return rows
 
 
-def side_by_side(pattern: str, fibres: int, packing: str, runs: list[dict]) -> None:
+def side_by_side(pattern: str, fibres: int, packing: str, runs: list[dict],
+                 yarns: int = 6) -> None:
     """The flat-row sample and the sample of ``fibres``-fibre ``packing``
     yarns, woven in ``pattern`` and measured before (their pictures and
     figures.json, their rows of weave_sample.json): their cuts across warp
@@ -313,7 +318,7 @@ def side_by_side(pattern: str, fibres: int, packing: str, runs: list[dict]) -> N
     import matplotlib.pyplot as plt
 
     cases = [("flat rows of 28", 28, "layers 1"), (f"{fibres}-fibre {packing}", fibres, packing)]
-    dirs = [os.path.join(OUT, woven_name(pattern, n, p).removesuffix(".h5"))
+    dirs = [os.path.join(OUT, woven_name(pattern, n, p, yarns).removesuffix(".h5"))
             for _, n, p in cases]
     missing = [d for d in dirs if not os.path.exists(os.path.join(d, "figures.json"))]
     if missing:
@@ -425,20 +430,21 @@ def main():
             with open(os.path.join(OUT, "weave_sample.json")) as f:
                 runs = json.load(f)["runs"]
             for pattern in args.patterns:
-                side_by_side(pattern, args.fibres, args.packing, runs)
+                side_by_side(pattern, args.fibres, args.packing, runs, args.yarns)
         return
     if args.motion:
         for pattern in args.patterns:
             motion_to_woven(sample_fabric(pattern, args.fibres, args.yarns, args.elements,
                                           args.spacing, args.packing, args.free_length),
-                            os.path.join(OUT, woven_name(pattern, args.fibres, args.packing)),
-                            comm)
+                            os.path.join(OUT, woven_name(pattern, args.fibres, args.packing,
+                                                         args.yarns)), comm)
         return
     if args.from_state:
         for pattern in args.patterns:
             from_state(sample_fabric(pattern, args.fibres, args.yarns, args.elements,
                                      args.spacing, args.packing, args.free_length),
-                       os.path.join(OUT, woven_name(pattern, args.fibres, args.packing)), comm)
+                       os.path.join(OUT, woven_name(pattern, args.fibres, args.packing,
+                                                    args.yarns)), comm)
         return
     os.makedirs(OUT, exist_ok=True)
     if comm.rank == 0:
