@@ -172,6 +172,28 @@ def test_a_contact_loop_that_cycles_fails_at_once():
     assert attempt.updates == 20 and "still changing after 20 Newton solves" in attempt.message
 
 
+def test_a_contact_loop_that_falls_slowly_goes_on_while_it_can_settle():
+    """Changes falling by less than the cycle test's 5% a solve look like a
+    period-1 cycle: they go on while their rate brings them to 1 within
+    max_updates (the bundle shear's 1.13, 1.1, 1.07, 1.04, 1.01 was cut one
+    solve before it settled), and fail at once when it cannot."""
+    fib, model = cantilever()
+    # 3% a solve from 1.3: below 1 at the 10th of them, pass 13 (the cycle
+    # test names it at pass 10, where 10 solves are left)
+    model.add_effect(_Unsettled([5, 3, 2] + [1.3 * 0.97 ** k for k in range(30)]))
+    loop = ContactLoop(set_up(model, SolverOptions(**QUIET)))
+    attempt = loop.step_to(1.0)
+    assert attempt.converged and attempt.updates == 13
+    fib, model = cantilever()
+    # 4% a solve from 2.95: 1.5 after the 10 solves left at pass 10
+    model.add_effect(_Unsettled([5, 3, 2] + [2.95 * 0.96 ** k for k in range(30)]))
+    loop = ContactLoop(set_up(model, SolverOptions(**QUIET)))
+    attempt = loop.step_to(1.0)
+    assert attempt.reason == DIVERGED_EFFECTS_UNSETTLED and attempt.updates == 10
+    assert "falling by 4% a Newton solve, too slowly to settle in the 10 solves left, " \
+           "after 10 Newton solves" in attempt.message
+
+
 def test_capped_solves_that_cycle_together_go_on_with_a_line_search(monkeypatch):
     """Capped solves (newton_per_pass) are too short to show a cycle each:
     the contact loop tests the attempt's whole residual history, and a

@@ -14,7 +14,7 @@ import numpy as np
 from petsc4py import PETSc
 
 from .. import _cpp
-from .convergence import cycling, effects_cycling
+from .convergence import cycling, effects_unsettled
 from .newton import Newton
 from .options import DIVERGED_EFFECTS_UNSETTLED
 from .records import Attempt
@@ -180,13 +180,14 @@ class ContactLoop:
             set_at_converged = not result.capped
             if not result.capped:
                 settled_changes.append(change)
-                if effects_cycling(settled_changes):
+                why = effects_unsettled(settled_changes, o.max_updates - outer)
+                if why:
                     if path:  # on with full solves
                         path, settled_changes = False, []
                         continue
                     attempt.reason = DIVERGED_EFFECTS_UNSETTLED
                     attempt.message = self._unsettled(attempt,
-                                                      f"cycling after {outer} Newton solves")
+                                                      f"{why} after {outer} Newton solves")
                     return attempt
         attempt.reason = DIVERGED_EFFECTS_UNSETTLED
         attempt.message = self._unsettled(attempt, f"still changing after {o.max_updates} "

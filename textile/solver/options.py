@@ -89,7 +89,8 @@ class SolverOptions(Options):
     max_updates:
         Newton solves per step while effects update what Newton holds fixed
         (contact elements, normals, penalties); a step still changing after
-        that many, or whose changes cycle (``effects_cycling``), is cut.
+        that many, or whose changes cycle and cannot settle in the solves left
+        (``effects_unsettled``), is cut.
     newton_per_pass:
         0 (default): each of those Newton solves runs to convergence before
         the effects update. n > 0: the effects update after at most n Newton
