@@ -194,6 +194,21 @@ def test_a_contact_loop_that_falls_slowly_goes_on_while_it_can_settle():
            "after 10 Newton solves" in attempt.message
 
 
+def test_capped_solves_stop_once_the_effects_settle_after_one():
+    """newton_per_pass: once the effects did not change after a capped
+    solve, the next solves run to convergence (two settle the step), where
+    the first half of max_updates solves used to be capped whatever the
+    effects did (the bundle shear: 10 capped solves a step)."""
+    fib, model = cantilever()
+    model.add_effect(_Unsettled([5.0] + [0.5] * 40))
+    loop = ContactLoop(set_up(model, SolverOptions(newton_per_pass=1, **QUIET)))
+    attempt = loop.step_to(1.0)
+    assert attempt.converged
+    # pass 1 capped (changed), pass 2 capped (settled), passes 3 and 4 to
+    # convergence: the effects set at a converged state did not change
+    assert attempt.updates == 4, attempt.passes
+
+
 def test_capped_solves_that_cycle_together_go_on_with_a_line_search(monkeypatch):
     """Capped solves (newton_per_pass) are too short to show a cycle each:
     the contact loop tests the attempt's whole residual history, and a

@@ -99,8 +99,10 @@ class SolverOptions(Options):
         then goes on from there. A step is accepted, as with 0, only when a
         solve has converged and no effect changed after it, so the answer
         meets the same tolerances. Only the first half of the max_updates
-        solves are capped (effects that flip at unconverged states, such as
-        stick and slip, settle once the solves converge). The lifting weave of bundles uses 3
+        solves are capped, and none after the effects settled after a capped
+        one (effects that flip at unconverged states, such as stick and
+        slip, settle once the solves converge). The lifting weave of bundles
+        uses 3
         (:class:`textile.fabric.Weaving`; benchmarks/README.md, "Contact
         passes with capped Newton solves").
     newton:
