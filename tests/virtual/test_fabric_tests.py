@@ -82,6 +82,21 @@ def test_a_free_side_component_lets_the_woven_state_go_over_the_first_stage(wove
     assert np.all(test.sample.sides["xmin"].loads.start == 0)
 
 
+def test_loading_steps_grow_again_after_a_cut(woven):
+    """A loading step cut after a failed attempt grows back once
+    REGROW_AFTER steps converged at its size (the stage's solver options;
+    without it the bundle shear went on at 1/480 of its stage after one
+    cut); a user's regrow_after wins."""
+    test = Shear(fabric(), woven, 0.1 * fabric().spacing[0], steps=4, comm=MPI.COMM_SELF)
+    stage = test.loading_stage(test.drive())
+    assert stage.solver == dict(initial_step=0.25, max_step=0.25,
+                                regrow_after=Shear.REGROW_AFTER)
+    assert Shear.REGROW_AFTER > 0
+    test = Shear(fabric(), woven, 0.1 * fabric().spacing[0], steps=4, comm=MPI.COMM_SELF,
+                 solver_options=dict(regrow_after=0))
+    assert test.loading_stage(test.drive()).solver["regrow_after"] == 0
+
+
 def test_biaxial_crimp_interchange(woven):
     """Stretching the weft too makes the warp stiffer (crimp interchange):
     the warp's membrane stiffness rises with the weft/warp strain ratio."""
