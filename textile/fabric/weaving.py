@@ -144,7 +144,7 @@ class Weaving:
         yarn").
     lagged_path:
         With a drag (``drag`` or ``lifting_drag``) and Newton solves run to
-        convergence (``newton_per_pass`` 0, the default with a drag): the
+        convergence (``newton_per_pass`` 0, the default with it): the
         contact loop of the stages that hold a drag lags (``LAGGED_PATH``,
         :meth:`FibreContact.configure`): a step is accepted after its
         first converged Newton solve, what that solve's contact update
@@ -164,10 +164,15 @@ class Weaving:
     newton_per_pass:
         Lifting: Newton iterations between contact updates in its stages
         (``SolverOptions.newton_per_pass``; 0: each Newton solve to
-        convergence). Default: ``NEWTON_PER_PASS``, 0 with a drag (with
-        capped solves the fading stage folds elements on the 3-fibre and
-        the twisted 7-fibre weaves: benchmarks/README.md, "Twisted
-        bundles").
+        convergence). Default: ``NEWTON_PER_PASS``; 0 with a drag whose
+        fading is not a viscosity (``viscous_fading`` False: capped solves
+        fold an element in the fading of the 3-fibre weave, and folded
+        them in the twisted 7-fibre weave's: benchmarks/README.md,
+        "Twisted bundles", "Capped solves on a viscous fading's path") and
+        with ``lagged_path``. With a viscous fading capped solves take
+        fewer Newton iterations to the same woven state (the 3-, 7- and
+        twisted 7-fibre 2 x 2 weaves: 196, 190, 477 against 256, 209, 560;
+        the 6 x 6 weave of 7-fibre bundles: 799 against 973).
     pull:
         ``"yarn"`` (default): one pull body holds the end sections of all
         the fibres of a yarn (they slide in together); ``"fibre"``: a pull
@@ -351,7 +356,10 @@ class Weaving:
         self.drag = float(drag)
         self.lifting_drag = float(lifting_drag)
         if newton_per_pass is None:
-            newton_per_pass = 0 if self.drag > 0 or self.lifting_drag > 0 \
+            # a drag's plain fading (not a viscosity) folds elements with
+            # capped solves; a lagged path needs solves run to convergence
+            newton_per_pass = 0 if lagged_path is True or (
+                (self.drag > 0 or self.lifting_drag > 0) and not viscous_fading) \
                 else self.NEWTON_PER_PASS
         if isinstance(newton_per_pass, bool) or not isinstance(newton_per_pass, numbers.Integral) \
                 or newton_per_pass < 0:
