@@ -57,6 +57,20 @@ def tension(woven, turning_ends=None):
                    turning_ends=turning_ends, comm=MPI.COMM_SELF)
 
 
+def test_a_bundle_samples_loading_caps_its_newton_solves(woven):
+    """Between bundles the contact loop converges linearly over several
+    passes a step: the loading's Newton solves are capped at
+    NEWTON_PER_PASS_BUNDLES iterations between contact updates (the Newton
+    guards of the four tests here hold the counts it gives); a user's
+    newton_per_pass wins."""
+    test = tension(woven)
+    stage = test.loading_stage(test.drive())
+    assert stage.solver["newton_per_pass"] == Tension.NEWTON_PER_PASS_BUNDLES > 0
+    test = Tension(fabric(), woven, STRAIN, steps=4, contact=CONTACT, comm=MPI.COMM_SELF,
+                   solver_options=dict(QUIET, newton_per_pass=0))
+    assert test.loading_stage(test.drive()).solver["newton_per_pass"] == 0
+
+
 def test_the_bundles_friction_is_released_not_removed(woven):
     test = tension(woven)
     held = test.sample.released_friction

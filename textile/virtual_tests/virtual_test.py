@@ -205,6 +205,18 @@ class VirtualTest:
     #: each) taking what the fewer steps save (benchmarks/README.md,
     #: "Loading steps that grow again after a cut")
     REGROW_AFTER = 3
+    #: Newton iterations between contact updates in the loading of a fabric
+    #: of bundles (SolverOptions.newton_per_pass): the contact loop between
+    #: bundles converges linearly over 5-13 passes a step, which capped
+    #: solves need not each settle. The 3-fibre bundle sample's shear,
+    #: tension, bending, twisting: 35, 37, 43, 43 Newton iterations against
+    #: 43, 51, 55, 59; the 6 x 6 sample of 7-fibre bundles sheared to the
+    #: end in 64 min, where solves to convergence reached 0.80 of the load
+    #: in 51 min (benchmarks/README.md, "The bundle shear's contact loop",
+    #: "Capped solves in a bundle sample's loading"). Not on monofilaments
+    #: or flat rows, whose loop settles in 1-2 passes: the tests' 2 x 2
+    #: monofilament shear took 54 against 38.
+    NEWTON_PER_PASS_BUNDLES = 2
     #: called as on_step(solver, step record) after every converged step
     #: (progress reports, partial results of long runs)
     on_step = None
@@ -314,11 +326,18 @@ class VirtualTest:
         """The test's loading, to ``targets`` ({handle: target at its end},
         :meth:`drive`'s) in ``steps`` steps: a step cut after a failed
         attempt grows back after ``REGROW_AFTER`` steps converged in a row
-        at its size (the ``solver_options``' ``regrow_after`` if given)."""
+        at its size; on a fabric of bundles its Newton solves are capped at
+        ``NEWTON_PER_PASS_BUNDLES`` iterations between contact updates
+        (the ``solver_options``' ``regrow_after`` and ``newton_per_pass``
+        win)."""
+        fabric = self.sample.fabric
+        bundles = any(fabric.yarn(k).is_bundle for k in range(fabric.num_yarns))
+        passes = self.solver_options.get("newton_per_pass",
+                                         self.NEWTON_PER_PASS_BUNDLES if bundles else 0)
         regrow = self.solver_options.get("regrow_after", self.REGROW_AFTER)
         return Stage(self.name, ramp=targets, effects=self.sample.drag_off_effects(),
                      solver=dict(initial_step=1.0 / self.steps, max_step=1.0 / self.steps,
-                                 regrow_after=regrow))
+                                 regrow_after=regrow, newton_per_pass=passes))
 
     def run(self) -> VirtualTestResult:
         """Release (or settle), then load step by step; the result
