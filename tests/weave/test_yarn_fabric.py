@@ -216,6 +216,24 @@ def test_bundles_have_friction_within_the_yarn():
     assert w.contact.yarn_friction.tolist() == [0.05, 0.05, 0.1, 0.1]
 
 
+def test_a_fabric_of_bundles_weaves_by_lifting_with_longer_tails():
+    """Fabric.has_bundles (warp or weft a Yarn.is_bundle: stacked or
+    twisted fibres) is the one test behind three defaults: the weaving
+    method (lifting, else ordered), the free length (one spacing, else
+    half) and a loading's capped Newton solves; a twisted row of two fibres
+    is a bundle, as its friction default already said."""
+    row, hexa = Yarn(7, R, MAT, packing="layers 1"), Yarn(7, R, MAT, packing="hexagonal")
+    twisted = Yarn(2, R, MAT, packing=[[-1.05 * R, 0], [1.05 * R, 0]], twist=1 / (30 * R))
+    for warp, weft, bundles in ((row, row, False), (row, hexa, True), (twisted, row, True),
+                                (Yarn(1, R, MAT), Yarn(1, R, MAT), False)):
+        fab = Fabric(warp, weft, num_warp=2, num_weft=2, spacing=30 * R, pattern="plain",
+                     elements_per_crossing=4)
+        assert fab.has_bundles is bundles
+        assert fab.free_length == pytest.approx((1.0 if bundles else 0.5) * 30 * R)
+        w = Weaving(fab, comm=MPI.COMM_SELF)
+        assert w.method == ("lifting" if bundles else "ordered")
+
+
 # -- twist ---------------------------------------------------------------------------------
 def brute_helix_distance(a, b, twist):
     """Distance between the helices of offsets a and b (fibre a at s = 0,

@@ -152,8 +152,7 @@ class Fabric:
         self.pattern = WeavePattern.of(pattern)
         self.order = self.pattern.tile(self.num_weft, self.num_warp)
         if free_length is None:
-            bundles = any(y.height > 2 * y.radius * (1 + ROUND_OFF) for y in (warp, weft))
-            free_length = (1.0 if bundles else 0.5) * min(self.spacing)
+            free_length = (1.0 if self.has_bundles else 0.5) * min(self.spacing)
         self.free_length = _positive(free_length, "free_length")
         self.elements_per_crossing = int(elements_per_crossing)
         self.element_order = int(order)
@@ -168,6 +167,14 @@ class Fabric:
 
     def yarn(self, k: int) -> Yarn:
         return self.warp if k < self.num_warp else self.weft
+
+    @property
+    def has_bundles(self) -> bool:
+        """Whether the warp or the weft is a bundle (``Yarn.is_bundle``:
+        fibres stacked in the section, or twisted): such a fabric weaves by
+        lifting, with longer free ends, and its loadings cap their Newton
+        solves."""
+        return self.warp.is_bundle or self.weft.is_bundle
 
     def yarn_friction(self) -> np.ndarray:
         """Each yarn's friction coefficient between its own fibres

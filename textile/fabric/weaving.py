@@ -83,7 +83,7 @@ class Weaving:
     method:
         ``"ordered"`` (the paper's: ordered contact, module docstring) or
         ``"lifting"`` (heddles, below). Default: ``"lifting"`` when a yarn
-        is more than one fibre high (a bundle), else ``"ordered"``.
+        is a bundle (``Fabric.has_bundles``), else ``"ordered"``.
     settling_steps:
         Lifting: load steps of the settling stage.
     amplitude:
@@ -304,9 +304,7 @@ class Weaving:
         contact = presets.contact(self.preset, contact)
         element = presets.element(self.preset) if element is None else element
         if method is None:
-            bundles = any(fabric.yarn(k).height > 2 * fabric.yarn(k).radius * (1 + 1e-9)
-                          for k in (0, fabric.num_yarns - 1))
-            method = "lifting" if bundles else "ordered"
+            method = "lifting" if fabric.has_bundles else "ordered"
         if method not in self.METHODS:
             raise ValueError(f"Weaving: method must be one of {self.METHODS}, got {method!r}")
         self.method = method

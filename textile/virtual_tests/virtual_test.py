@@ -330,8 +330,7 @@ class VirtualTest:
         ``NEWTON_PER_PASS_BUNDLES`` iterations between contact updates
         (the ``solver_options``' ``regrow_after`` and ``newton_per_pass``
         win)."""
-        fabric = self.sample.fabric
-        bundles = any(fabric.yarn(k).is_bundle for k in range(fabric.num_yarns))
+        bundles = self.sample.fabric.has_bundles
         passes = self.solver_options.get("newton_per_pass",
                                          self.NEWTON_PER_PASS_BUNDLES if bundles else 0)
         regrow = self.solver_options.get("regrow_after", self.REGROW_AFTER)
