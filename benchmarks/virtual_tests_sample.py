@@ -101,11 +101,13 @@ class DetectionClock:
             setattr(FibreContact, name, original)
 
 
-def sample_suffix(fibres: int, packing: str) -> str:
-    """'' for the flat-row sample, else its yarns' fibre count and packing
-    (as weave_sample.woven_name)."""
-    return "" if (fibres, packing) == (28, "layers 1") else \
+def sample_suffix(fibres: int, packing: str, yarns: int = 6) -> str:
+    """'' for the 6 x 6 flat-row sample, else its yarns' fibre count and
+    packing and, other than 6 x 6, its size (as weave_sample.woven_name: a
+    4 x 4 sample's results went into the 6 x 6 one's file)."""
+    suffix = "" if (fibres, packing) == (28, "layers 1") else \
         f"_{fibres}_{packing.replace(' ', '')}"
+    return suffix + (f"_{yarns}x{yarns}" if yarns != 6 else "")
 
 
 def run_test(name: str, fabric, woven: str, steps: int, args, comm, progress) -> dict:
@@ -170,8 +172,8 @@ def run_test(name: str, fabric, woven: str, steps: int, args, comm, progress) ->
                    newton_iterations=c["newton_iterations"],
                    newton_per_step=c["newton_iterations"] / max(len(steps_out), 1))
         if comm.rank == 0:
-            result.write(os.path.join(
-                OUT, f"virtual_tests_sample{sample_suffix(args.fibres, args.packing)}_{name}"))
+            suffix = sample_suffix(args.fibres, args.packing, args.yarns)
+            result.write(os.path.join(OUT, f"virtual_tests_sample{suffix}_{name}"))
     return out
 
 
@@ -209,7 +211,7 @@ def main():
     comm = MPI.COMM_WORLD
     if comm.rank == 0:
         print(runtime.describe())
-    suffix = sample_suffix(args.fibres, args.packing)
+    suffix = sample_suffix(args.fibres, args.packing, args.yarns)
     if args.woven is None:
         args.woven = os.path.join(OUT, f"weave_sample_plain{suffix}.h5")
     if not os.path.exists(args.woven):
