@@ -14,7 +14,7 @@ import numpy as np
 from petsc4py import PETSc
 
 from .. import _cpp
-from .convergence import cycling, effects_unsettled
+from .convergence import capped_passes_stalled, cycling, effects_unsettled
 from .newton import Newton
 from .options import DIVERGED_EFFECTS_UNSETTLED
 from .records import Attempt
@@ -142,22 +142,24 @@ class ContactLoop:
         # just above its tolerance; full solves settled that on the 28-fibre
         # weave (a cycle they do not settle costs twice: benchmarks/README.md)
         path = o.path_rtol > 0
-        # the effects settled after a capped solve: the rest run to
+        # the effects settled after a capped solve, or capped solves stopped
+        # bringing them closer (capped_passes_stalled): the rest run to
         # convergence (capped on, the passes kept the solve's iterations
         # short: the bundle shear's steps took 10 capped solves where two
         # full ones settle; benchmarks/README.md, "The bundle shear's
         # contact loop")
-        capped_settled = False
+        capped_done, capped_changes = False, []
         for outer in range(1, o.max_updates + 1):
             attempt.updates = outer
             if self.comm.allreduce(m.matrix_stale):
                 # new couplings (contact): a matrix preallocated for them
                 self.newton.set_operators(m.rebuild_matrix())
             # capped solves between effect updates (newton_per_pass) for the
-            # first half of the passes or until the effects settle after one;
+            # first half of the passes or until the effects settle after one
+            # or stop settling;
             # then (effects that do not settle at unconverged states:
             # stick-slip flips) to convergence
-            capped = outer <= o.max_updates // 2 and not capped_settled
+            capped = outer <= o.max_updates // 2 and not capped_done
             # capped solves too short to show a cycle may make one together
             result = self.newton.solve(m.x, o.newton_per_pass if capped else 0,
                                        search=cycling(attempt.residual_norms), path=path,
@@ -185,7 +187,9 @@ class ContactLoop:
                 attempt.converged = True
                 return attempt
             set_at_converged = not result.capped
-            capped_settled = capped_settled or (result.capped and not changed)
+            if result.capped:
+                capped_changes.append(change)
+                capped_done = not changed or capped_passes_stalled(capped_changes)
             if not result.capped:
                 settled_changes.append(change)
                 why = effects_unsettled(settled_changes, o.max_updates - outer)

@@ -89,8 +89,8 @@ class SolverOptions(Options):
     max_updates:
         Newton solves per step while effects update what Newton holds fixed
         (contact elements, normals, penalties); a step still changing after
-        that many, or whose changes cycle and cannot settle in the solves left
-        (``effects_unsettled``), is cut.
+        that many, or whose changes' trend or cycle cannot settle in the
+        solves left (``convergence.effects_unsettled``), is cut.
     newton_per_pass:
         0 (default): each of those Newton solves runs to convergence before
         the effects update. n > 0: the effects update after at most n Newton
@@ -100,8 +100,10 @@ class SolverOptions(Options):
         solve has converged and no effect changed after it, so the answer
         meets the same tolerances. Only the first half of the max_updates
         solves are capped, and none after the effects settled after a capped
-        one (effects that flip at unconverged states, such as stick and
-        slip, settle once the solves converge). The lifting weave of bundles
+        one or stopped settling (their change not 5% below the pass before:
+        ``convergence.capped_passes_stalled``; effects that flip at
+        unconverged states, such as stick and slip, settle once the solves
+        converge). The lifting weave of bundles
         uses 3
         (:class:`textile.fabric.Weaving`; benchmarks/README.md, "Contact
         passes with capped Newton solves").
