@@ -196,11 +196,12 @@ def capped_passes_stalled(changes: list[float]) -> bool:
     after each capped solve of the attempt so far, in units of their
     tolerance. Yes once the last, finite, is not CYCLE_TOLERANCE below the
     one before (the cycle test's period 1 over two passes): the solves run
-    to convergence from there, which settles a loop that the capped passes
-    only keep stirring (the 6 x 6 shear of 7-fibre bundles: 10 capped
-    solves a step, 20 Newton iterations, where their changes stood at 1-6
-    from the third, then one or two full solves settled; benchmarks/
-    README.md, "A contact loop judged by its trend")."""
+    to convergence from there, whose changes effects_unsettled judges (the
+    6 x 6 shear of 7-fibre bundles: capped passes that stood, 2.34, 2.31,
+    then full solves at 2.33, 2.4, 2.45 failed the attempt after 16 Newton
+    iterations, where 10 capped passes and 9 full solves took 60-75;
+    capped passes that fall 10-45% a pass go on; benchmarks/README.md, "A
+    contact loop judged by its trend")."""
     last = changes[-2:]
     return len(last) == 2 and bool(np.all(np.isfinite(last))) \
         and last[1] >= (1 - CYCLE_TOLERANCE) * last[0]
