@@ -61,14 +61,17 @@ def test_a_bundle_samples_loading_caps_its_newton_solves(woven):
     """Between bundles the contact loop converges linearly over several
     passes a step: the loading's Newton solves are capped at
     NEWTON_PER_PASS_BUNDLES iterations between contact updates (the Newton
-    guards of the four tests here hold the counts it gives); a user's
-    newton_per_pass wins."""
+    guards of the four tests here hold the counts it gives), and the
+    passes relaxed (LOOP_RELAXATION_BUNDLES); a user's newton_per_pass and
+    loop_relaxation win."""
     test = tension(woven)
     stage = test.loading_stage(test.drive())
     assert stage.solver["newton_per_pass"] == Tension.NEWTON_PER_PASS_BUNDLES > 0
+    assert stage.solver["loop_relaxation"] == Tension.LOOP_RELAXATION_BUNDLES == "aitken"
     test = Tension(fabric(), woven, STRAIN, steps=4, contact=CONTACT, comm=MPI.COMM_SELF,
-                   solver_options=dict(QUIET, newton_per_pass=0))
-    assert test.loading_stage(test.drive()).solver["newton_per_pass"] == 0
+                   solver_options=dict(QUIET, newton_per_pass=0, loop_relaxation="none"))
+    stage = test.loading_stage(test.drive())
+    assert stage.solver["newton_per_pass"] == 0 and stage.solver["loop_relaxation"] == "none"
 
 
 def test_the_bundles_friction_is_released_not_removed(woven):

@@ -15,6 +15,7 @@ from petsc4py import PETSc
 
 from .. import _cpp
 from .convergence import capped_passes_stalled, cycling, effects_unsettled
+from .loop_relaxation import AitkenRelaxation
 from .newton import Newton
 from .options import DIVERGED_EFFECTS_UNSETTLED
 from .records import Attempt
@@ -128,6 +129,12 @@ class ContactLoop:
                 d.destroy()
             plain.destroy()
         m.apply_constraints(m.x)
+        return self._passes()
+
+    def _passes(self) -> Attempt:
+        """The contact loop of :meth:`step_to` (loops 1-2 around Newton's
+        loop 3) from the predicted state."""
+        m, o = self.system, self.options
         attempt = Attempt(False)
         # were the effects last updated at a converged state? (the step's
         # start is one; a capped solve's iterate is not: an answer is taken
@@ -149,62 +156,106 @@ class ContactLoop:
         # full ones settle; benchmarks/README.md, "The bundle shear's
         # contact loop")
         capped_done, capped_changes = False, []
-        for outer in range(1, o.max_updates + 1):
-            attempt.updates = outer
-            if self.comm.allreduce(m.matrix_stale):
-                # new couplings (contact): a matrix preallocated for them
-                self.newton.set_operators(m.rebuild_matrix())
-            # capped solves between effect updates (newton_per_pass) for the
-            # first half of the passes or until the effects settle after one
-            # or stop settling;
-            # then (effects that do not settle at unconverged states:
-            # stick-slip flips) to convergence
-            capped = outer <= o.max_updates // 2 and not capped_done
-            # capped solves too short to show a cycle may make one together
-            result = self.newton.solve(m.x, o.newton_per_pass if capped else 0,
-                                       search=cycling(attempt.residual_norms), path=path,
-                                       same_step=outer > 1)
-            attempt.reason = result.reason
-            if result.message:
-                attempt.message = result.message
-            attempt.iterations += result.iterations
-            attempt.residual_norms += result.residual_norms
-            if m.domain_error is not None:
-                # (PETSc may have stopped on the infinite residual first)
-                attempt.reason = PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
-                attempt.message = str(m.domain_error)
-                return attempt
-            if (attempt.reason <= 0 and not result.capped) or not np.isfinite(m.x.norm()):
-                return attempt
-            changed, error = self.effects_step("update")
-            if error:
-                attempt.reason = PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
-                attempt.message = f"updating effects: {error}"
-                return attempt
-            change = max((e.update_change() for e in m.effects), default=0.0)
-            attempt.passes.append((result.iterations, change))
-            if not changed and not result.capped and set_at_converged:
-                attempt.converged = True
-                return attempt
-            set_at_converged = not result.capped
-            if result.capped:
-                capped_changes.append(change)
-                capped_done = not changed or capped_passes_stalled(capped_changes)
-            if not result.capped:
-                settled_changes.append(change)
-                why = effects_unsettled(settled_changes, o.max_updates - outer)
-                if why:
-                    if path:  # on with full solves
-                        path, settled_changes = False, []
-                        continue
-                    attempt.reason = DIVERGED_EFFECTS_UNSETTLED
-                    attempt.message = self._unsettled(attempt,
-                                                      f"{why} after {outer} Newton solves")
+        # the passes' motion relaxed (SolverOptions.loop_relaxation) from
+        # ``origin``, the state where the effects were last updated (none
+        # before the first update: the first solve's motion carries the
+        # load step)
+        relaxation = AitkenRelaxation() if o.loop_relaxation == "aitken" else None
+        origin = None
+        try:
+            for outer in range(1, o.max_updates + 1):
+                attempt.updates = outer
+                if self.comm.allreduce(m.matrix_stale):
+                    # new couplings (contact): a matrix preallocated for them
+                    self.newton.set_operators(m.rebuild_matrix())
+                # capped solves between effect updates (newton_per_pass) for the
+                # first half of the passes or until the effects settle after one
+                # or stop settling;
+                # then (effects that do not settle at unconverged states:
+                # stick-slip flips) to convergence
+                capped = outer <= o.max_updates // 2 and not capped_done
+                # capped solves too short to show a cycle may make one together
+                result = self.newton.solve(m.x, o.newton_per_pass if capped else 0,
+                                           search=cycling(attempt.residual_norms), path=path,
+                                           same_step=outer > 1)
+                attempt.reason = result.reason
+                if result.message:
+                    attempt.message = result.message
+                attempt.iterations += result.iterations
+                attempt.residual_norms += result.residual_norms
+                if m.domain_error is not None:
+                    # (PETSc may have stopped on the infinite residual first)
+                    attempt.reason = PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
+                    attempt.message = str(m.domain_error)
                     return attempt
-        attempt.reason = DIVERGED_EFFECTS_UNSETTLED
-        attempt.message = self._unsettled(attempt, f"still changing after {o.max_updates} "
-                                                   f"Newton solves")
-        return attempt
+                if (attempt.reason <= 0 and not result.capped) or not np.isfinite(m.x.norm()):
+                    return attempt
+                changed, error = self.effects_step("update")
+                if error:
+                    attempt.reason = PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
+                    attempt.message = f"updating effects: {error}"
+                    return attempt
+                change = max((e.update_change() for e in m.effects), default=0.0)
+                attempt.passes.append((result.iterations, change))
+                if not changed and not result.capped and set_at_converged:
+                    attempt.converged = True
+                    return attempt
+                set_at_converged = not result.capped
+                if result.capped:
+                    capped_changes.append(change)
+                    capped_done = not changed or capped_passes_stalled(capped_changes)
+                if not result.capped:
+                    settled_changes.append(change)
+                    # a relaxed loop is judged by its own trend: not while
+                    # the relaxation waits for the two motions it needs (the
+                    # plain passes' slow fall is what it speeds up)
+                    why = "" if relaxation is not None and relaxation.waiting else \
+                        effects_unsettled(settled_changes, o.max_updates - outer)
+                    if why:
+                        if path:  # on with full solves (another map: no relaxation across)
+                            path, settled_changes = False, []
+                            if relaxation is not None:
+                                relaxation.restart()
+                            origin = self._keep(origin)
+                            continue
+                        attempt.reason = DIVERGED_EFFECTS_UNSETTLED
+                        attempt.message = self._unsettled(attempt,
+                                                          f"{why} after {outer} Newton solves")
+                        return attempt
+                if relaxation is not None:
+                    if origin is None or not changed or not np.isfinite(change):
+                        relaxation.restart()
+                    elif relaxation.relax(origin, m.x, result.capped) != 1.0:
+                        if not relaxation.started:
+                            settled_changes = []  # the relaxed loop's trend from here
+                        relaxation.started = True
+                        # the effects again, at the relaxed state (not a
+                        # converged one: a plain pass must follow before the end)
+                        m.apply_constraints(m.x)
+                        set_at_converged = False
+                        _, error = self.effects_step("update")
+                        if error:
+                            attempt.reason = PETSc.SNES.ConvergedReason.DIVERGED_FUNCTION_DOMAIN
+                            attempt.message = f"updating effects at a relaxed state: {error}"
+                            return attempt
+                    origin = self._keep(origin)
+            attempt.reason = DIVERGED_EFFECTS_UNSETTLED
+            attempt.message = self._unsettled(attempt, f"still changing after {o.max_updates} "
+                                                       f"Newton solves")
+            return attempt
+        finally:
+            if relaxation is not None:
+                attempt.relaxation = relaxation.factors
+                relaxation.destroy()
+            if origin is not None:
+                origin.destroy()
+
+    def _keep(self, origin):
+        """The system's state copied into ``origin`` (made if None)."""
+        if origin is None:
+            return self.system.x.copy()
+        self.system.x.copy(origin)
+        return origin
 
     @staticmethod
     def _unsettled(attempt: Attempt, how: str) -> str:

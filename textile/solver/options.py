@@ -107,6 +107,13 @@ class SolverOptions(Options):
         uses 3
         (:class:`textile.fabric.Weaving`; benchmarks/README.md, "Contact
         passes with capped Newton solves").
+    loop_relaxation:
+        "none" (default): each contact pass starts where the last Newton
+        solve ended. "aitken": the passes' motion is relaxed by Aitken's
+        factor (:mod:`textile.solver.loop_relaxation`), which lands a loop
+        that contracts linearly on its fixed point in a few passes; the
+        effects update at the relaxed state too, and the step still ends
+        only after a plain pass at a converged state: the same answer.
     newton:
         "mip" (default; mixed integration point Newton: the beams' geometric
         stiffness uses the stress extrapolated linearly from the previous
@@ -202,6 +209,7 @@ class SolverOptions(Options):
     predictor: str = "auto"
     max_updates: int = 20
     newton_per_pass: int = 0
+    loop_relaxation: str = "none"
     linear_solver: str = "mumps"
     factorization: str = "auto"
     reuse_factorization: int = 1
@@ -230,7 +238,8 @@ class SolverOptions(Options):
                        linear_solver=("mumps", "superlu_dist", "petsc"),
                        factorization=("auto", "lu", "cholesky"),
                        stability_check=("auto", "off"), scaling=("diagonal", "mumps"),
-                       cycle_line_search=("none", "l2", "bt", "cp"))
+                       cycle_line_search=("none", "l2", "bt", "cp"),
+                       loop_relaxation=("none", "aitken"))
         for name, allowed in choices.items():
             if getattr(self, name) not in allowed:
                 raise ValueError(f"SolverOptions.{name} must be one of {allowed}, "

@@ -55,6 +55,9 @@ class Attempt:
     #: per contact pass: (its Newton iterations, the largest effect change
     #: after it in units of the effect's tolerance; Effect.update_change)
     passes: list = field(default_factory=list)
+    #: per pass after the first, the relaxation factor of its motion
+    #: (SolverOptions.loop_relaxation "aitken"; 1: not relaxed)
+    relaxation: list = field(default_factory=list)
 
     def describe(self) -> str:
         text = f"{reason_name(self.reason)} after {self.iterations} Newton iterations"

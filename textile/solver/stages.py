@@ -18,7 +18,8 @@ from .stepping import Stepping
 #: options a stage may change (the linear solver is set once)
 STAGE_OPTIONS = {"initial_step", "min_step", "max_step", "grow", "cut", "easy_iterations",
                  "regrow_after",
-                 "max_it", "path_rtol", "max_updates", "newton_per_pass", "newton", "predictor",
+                 "max_it", "path_rtol", "max_updates", "newton_per_pass", "loop_relaxation",
+                 "newton", "predictor",
                  "branch_switching", "branch_amplitudes", "verbose"}
 
 

@@ -217,6 +217,11 @@ class VirtualTest:
     #: or flat rows, whose loop settles in 1-2 passes: the tests' 2 x 2
     #: monofilament shear took 54 against 38.
     NEWTON_PER_PASS_BUNDLES = 2
+    #: the contact loop's passes relaxed in the loading of a fabric of
+    #: bundles (SolverOptions.loop_relaxation): its slow passes swing
+    #: between contact states, which Aitken's factor (0.25-0.55 there)
+    #: damps (benchmarks/README.md, "Aitken relaxation of the contact loop")
+    LOOP_RELAXATION_BUNDLES = "aitken"
     #: called as on_step(solver, step record) after every converged step
     #: (progress reports, partial results of long runs)
     on_step = None
@@ -327,16 +332,20 @@ class VirtualTest:
         :meth:`drive`'s) in ``steps`` steps: a step cut after a failed
         attempt grows back after ``REGROW_AFTER`` steps converged in a row
         at its size; on a fabric of bundles its Newton solves are capped at
-        ``NEWTON_PER_PASS_BUNDLES`` iterations between contact updates
-        (the ``solver_options``' ``regrow_after`` and ``newton_per_pass``
-        win)."""
+        ``NEWTON_PER_PASS_BUNDLES`` iterations between contact updates and
+        the passes relaxed (``LOOP_RELAXATION_BUNDLES``; the
+        ``solver_options``' ``regrow_after``, ``newton_per_pass`` and
+        ``loop_relaxation`` win)."""
         bundles = self.sample.fabric.has_bundles
         passes = self.solver_options.get("newton_per_pass",
                                          self.NEWTON_PER_PASS_BUNDLES if bundles else 0)
+        relaxation = self.solver_options.get("loop_relaxation",
+                                             self.LOOP_RELAXATION_BUNDLES if bundles else "none")
         regrow = self.solver_options.get("regrow_after", self.REGROW_AFTER)
         return Stage(self.name, ramp=targets, effects=self.sample.drag_off_effects(),
                      solver=dict(initial_step=1.0 / self.steps, max_step=1.0 / self.steps,
-                                 regrow_after=regrow, newton_per_pass=passes))
+                                 regrow_after=regrow, newton_per_pass=passes,
+                                 loop_relaxation=relaxation))
 
     def run(self) -> VirtualTestResult:
         """Release (or settle), then load step by step; the result
