@@ -131,6 +131,9 @@ def test_cycling_newton_is_recognised():
     assert not cycling(base + [5e-4, 8.7e-4] * 2)                    # too short to tell
     assert not cycling([10.0 ** -k for k in range(12)])              # converging
     assert not cycling([0.9 ** k for k in range(20)])                # slow, but 10% a step
+    inf = float("inf")                    # inf - x passes any relative tolerance: inf = inf only
+    assert not cycling(base + [inf, 3e-4, inf, 7e-4, inf, 2e-4, inf, 9e-4, inf, 1e-4])
+    assert cycling(base + [inf, 5e-4] * 5)
 
 
 #: residual norms of Newton solves (restarts on a rebuilt matrix merged,

@@ -35,6 +35,7 @@ rows, residual u - u_prescribed, a length).
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -151,13 +152,18 @@ CYCLE_ITERATIONS, CYCLE_PERIOD, CYCLE_TOLERANCE = 6, 4, 0.05
 
 
 def cycling(norms: list[float]) -> bool:
-    """Does this Newton residual history (norm per iteration) cycle?"""
+    """Does this Newton residual history (norm per iteration) cycle? An
+    infinite value repeats only as an infinite value (inf - x would pass
+    any relative tolerance): the contact loop's changes, where inf is a new
+    contact or a retuned penalty, cycle through inf, 5, inf, 5 with period
+    2, not 1."""
     for period in range(1, CYCLE_PERIOD + 1):
         n = max(CYCLE_ITERATIONS, 2 * period)
         if len(norms) < n + period + 2:  # the first two iterations never count
             continue
         h = norms[-n - period:]
-        if all(abs(a - b) <= CYCLE_TOLERANCE * max(a, b)
+        if all(a == b or (math.isfinite(a) and math.isfinite(b)
+                          and abs(a - b) <= CYCLE_TOLERANCE * max(a, b))
                for a, b in zip(h[period:], h[:-period])):
             return True
     return False
@@ -251,8 +257,7 @@ def effects_unsettled(changes: list[float], solves_left: int) -> str:
         if 1.0 <= rate <= 1.0 + CYCLE_TOLERANCE:
             return "not falling"
         if rate < 1.0 and tail[-1] * rate ** solves_left > 1.0:
-            return (f"falling by {100 * (1 - rate):.2g}% a Newton solve, too slowly to settle "
-                    f"in the {solves_left} solves left,")
+            return _too_slow(rate, solves_left)
     if not cycling(changes):
         return ""
     tail = changes[-(CYCLE_ITERATIONS + 1):]
@@ -260,6 +265,10 @@ def effects_unsettled(changes: list[float], solves_left: int) -> str:
         rate = (tail[-1] / tail[0]) ** (1.0 / (len(tail) - 1))
         if tail[-1] * rate ** solves_left <= 1.0:
             return ""
-        return (f"falling by {100 * (1 - rate):.2g}% a Newton solve, too slowly to settle in "
-                f"the {solves_left} solves left,")
+        return _too_slow(rate, solves_left)
     return "cycling"
+
+
+def _too_slow(rate: float, solves_left: int) -> str:
+    return (f"falling by {100 * (1 - rate):.2g}% a Newton solve, too slowly to settle in "
+            f"the {solves_left} solves left,")
