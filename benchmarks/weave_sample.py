@@ -34,6 +34,8 @@ makes both again from the saved states, without weaving; ``--side-by-side``
 puts a sample's cuts and figures beside the flat-row sample's. A long weave
 with ``--checkpoint`` saves its state after every step; ``--resume`` goes
 on from there (its row counts the steps, iterations and time of both);
+each checkpointed step also prints the fabric's shape (mean crimp, section
+height / width at the crossings), kept in the row as ``shapes``;
 ``--keep-steps`` keeps every step's state, and ``--motion`` then says how
 far each lies from the woven state (the yarns' own motion, axial and
 vertical, and the fibres' within their yarn: benchmarks/README.md, "Where
@@ -148,15 +150,33 @@ def step_rows(solver) -> list[dict]:
                  updates=h.updates, wall_seconds=h.wall_time) for h in solver.history]
 
 
+def path_shape(fabric: Fabric, model, rec) -> dict:
+    """The fabric's shape at a step of the path (collective): mean crimp and
+    mean section height / width at the crossings, per direction. A long
+    weave's log shows with it where the yarns are heading (the 28-fibre
+    bundles flatten through the whole fading: benchmarks/README.md)."""
+    s = measures.summary(fabric, model)
+    out = dict(step=rec.step, stage=rec.stage, load_factor=rec.load_factor)
+    for name in ("warp", "weft"):
+        out[f"{name}_crimp"] = s[f"{name} crimp"]
+        out[f"{name}_height_over_width"] = s[f"{name} section height"] / s[f"{name} section width"]
+    return out
+
+
 class Checkpoint:
     """The run's state after every step, ``<state>_checkpoint.h5``, and what
-    the run did so far (steps, counters, wall time), ``.json`` beside it:
-    ``--resume`` goes on from there, and its figures count both parts."""
+    the run did so far (steps, counters, wall time, the fabric's shape at
+    each step: :func:`path_shape`), ``.json`` beside it: ``--resume`` goes
+    on from there, and its figures count both parts."""
 
-    def __init__(self, state: str, comm, earlier: dict | None = None, keep: bool = False):
+    def __init__(self, state: str, comm, fabric: Fabric, earlier: dict | None = None,
+                 keep: bool = False):
         stem = state.removesuffix(".h5")
         self.h5, self.json, self.comm = stem + "_checkpoint.h5", stem + "_checkpoint.json", comm
+        self.fabric = fabric
         self.earlier = earlier or dict(steps=[], counters={}, wall_seconds=0.0)
+        #: the fabric's shape after each step of this run (path_shape)
+        self.shapes = []
         self.t0 = time.perf_counter()
         #: a directory keeping every step's state (``--keep-steps``), else None
         self.steps = stem + "_steps" if keep else None
@@ -171,10 +191,10 @@ class Checkpoint:
         self.comm.barrier()
 
     @classmethod
-    def resumed(cls, state: str, model, solver, comm, keep: bool = False):
+    def resumed(cls, state: str, model, solver, comm, fabric: Fabric, keep: bool = False):
         """Load the checkpoint of ``state`` into ``model`` and ``solver``: the
         attributes load_state returned, and the checkpoint."""
-        c = cls(state, comm, keep=keep)
+        c = cls(state, comm, fabric, keep=keep)
         with open(c.json) as f:
             c.earlier = json.load(f)
         attrs = textile.load_state(model, c.h5, solver)
@@ -186,9 +206,18 @@ class Checkpoint:
         for k, v in solver.counters.items():
             counters[k] = counters.get(k, 0) + v
         return dict(steps=self.earlier["steps"] + step_rows(solver), counters=counters,
-                    wall_seconds=self.earlier["wall_seconds"] + time.perf_counter() - self.t0)
+                    wall_seconds=self.earlier["wall_seconds"] + time.perf_counter() - self.t0,
+                    shapes=self.earlier.get("shapes", []) + self.shapes)
 
     def __call__(self, solver, rec) -> None:
+        shape = path_shape(self.fabric, solver.model, rec)
+        self.shapes.append(shape)
+        if self.comm.rank == 0:
+            print(f"  the fabric at {rec.stage} s={rec.load_factor:.4f}: crimp "
+                  f"{100 * shape['warp_crimp']:.3f}% / {100 * shape['weft_crimp']:.3f}%, "
+                  f"section height / width "
+                  f"{shape['warp_height_over_width']:.3f} / {shape['weft_height_over_width']:.3f} "
+                  f"(warp / weft)", flush=True)
         textile.save_state(solver.model, self.h5, solver)
         if self.steps is not None:
             if self.comm.rank == 0:
@@ -212,14 +241,14 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
     state = os.path.join(OUT, woven_name(pattern, fibres, packing, yarns))
     error = ""
     t0 = time.perf_counter()
-    saving = Checkpoint(state, comm, keep=keep_steps) \
+    saving = Checkpoint(state, comm, fabric, keep=keep_steps) \
         if checkpoint or resume or keep_steps else None
     if saving is not None and not resume:
         saving.forget_steps()
     solver = textile.Solver(model, dict(solver_options, verbose=comm.rank == 0), on_step=saving)
     resumed = None
     if resume:
-        resumed, saving = Checkpoint.resumed(state, model, solver, comm, keep_steps)
+        resumed, saving = Checkpoint.resumed(state, model, solver, comm, fabric, keep_steps)
         solver.on_step = saving
     try:
         solver.run(weaving.stages(), resumed=resumed)
@@ -246,6 +275,7 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
                 stages=[st.name for st in weaving.stages()],
                 solver_options=solver_options, size=size, wall_seconds=wall,
                 counters=run["counters"] if run else solver.counters, steps=steps,
+                shapes=run["shapes"] if run else [],
                 resumed=bool(resume), summary=summary, error=error,
                 **{k: v for k, v in figures.items() if k != "sections"})
 
