@@ -100,7 +100,9 @@ def draw_woven(fabric: Fabric, state: str) -> None:
 
     directory = os.path.splitext(state)[0]
     axes = yarn_axes([fabric.yarn_direction(k) for k in range(fabric.num_yarns)])
-    drawn, errors = draw_state_pictures(state, directory, axes, unit="m")
+    # the fabric's own yarn numbers: a checkpoint drawn with --from-state
+    # may not carry them
+    drawn, errors = draw_state_pictures(state, directory, axes, unit="m", yarn=fabric.fibre_yarn)
     print(f"pictures in {directory}: {', '.join(sorted(drawn))}")
     for e in errors:
         print(f"  picture failed: {e}")
@@ -218,7 +220,8 @@ class Checkpoint:
                   f"section height / width "
                   f"{shape['warp_height_over_width']:.3f} / {shape['weft_height_over_width']:.3f} "
                   f"(warp / weft)", flush=True)
-        textile.save_state(solver.model, self.h5, solver)
+        textile.save_state(solver.model, self.h5, solver,
+                           fibre_data={"yarn": self.fabric.fibre_yarn})
         if self.steps is not None:
             if self.comm.rank == 0:
                 os.makedirs(self.steps, exist_ok=True)

@@ -156,3 +156,24 @@ def test_pictures_of_a_saved_state(tmp_path, no_vtk):
     assert not errors and set(drawn) == {"sample.png", "sample_top.png", "cut_warp.png",
                                          "cut_weft.png"}
     assert all((tmp_path / "pictures" / name).stat().st_size > 1000 for name in drawn)
+
+
+@pytest.mark.filterwarnings("ignore::textile.io.render.RenderingWarning")
+def test_pictures_of_a_state_without_yarns_given_its_yarns(tmp_path, no_vtk):
+    """A state saved without yarn numbers (a weave's checkpoint) drawn with
+    the fabric's yarns gets a cut across each yarn direction, not one cut
+    of the whole; yarn numbers that do not match its fibres are an error."""
+    from mpi4py import MPI
+    mat = textile.Material(1.0e9, 0.3)
+    model = textile.Model([textile.straight_fibre([0, 0, 0], [1, 0, 0], 0.01, mat, 2),
+                           textile.straight_fibre([0, 0.1, 0], [0, 1.1, 0], 0.02, mat, 3)],
+                          comm=MPI.COMM_SELF)
+    path = str(tmp_path / "state.h5")
+    textile.save_state(model, path)
+    axes = sample_pictures.yarn_axes({3: "warp", 5: "weft"})
+    drawn, errors = sample_pictures.draw_state_pictures(path, str(tmp_path / "pictures"), axes,
+                                                        yarn=[3, 5])
+    assert not errors and {"cut_warp.png", "cut_weft.png"} <= set(drawn) \
+        and "cut.png" not in drawn
+    with pytest.raises(ValueError, match="3 yarn numbers for the 2 fibres"):
+        sample_pictures.draw_state_pictures(path, str(tmp_path / "p2"), axes, yarn=[3, 5, 5])

@@ -250,14 +250,19 @@ def draw_vtu_pictures(vtu: str, directory: str | None = None, axes: dict | None 
 
 def draw_state_pictures(state: str, directory: str, axes: dict | None = None,
                         suffix: str = "", size=(1600, 1000),
-                        unit: str | None = None) -> tuple[dict, list[str]]:
+                        unit: str | None = None, yarn=None) -> tuple[dict, list[str]]:
     """:func:`draw_sample_pictures` of the fibres of a saved state
-    (:func:`textile.save_state`), in ``directory``; fibres coloured by the
-    state's ``yarn`` fibre data when it has one (``axes``:
-    :func:`yarn_axes` of the yarns' directions, for cuts across each)."""
+    (:func:`textile.save_state`), in ``directory``; fibres coloured by
+    ``yarn`` (one yarn number per fibre), else by the state's ``yarn``
+    fibre data when it has one (``axes``: :func:`yarn_axes` of the yarns'
+    directions, for cuts across each)."""
     from .state_file import saved_fibres
 
     lines, radii, data = saved_fibres(state)
+    if yarn is None:
+        yarn = data.get("yarn")
+    elif len(yarn) != len(lines):
+        raise ValueError(f"draw_state_pictures: {len(yarn)} yarn numbers for the "
+                         f"{len(lines)} fibres of {state}")
     os.makedirs(directory, exist_ok=True)
-    return draw_sample_pictures(directory, lines, radii, data.get("yarn"), axes, suffix, size,
-                                unit)
+    return draw_sample_pictures(directory, lines, radii, yarn, axes, suffix, size, unit)
