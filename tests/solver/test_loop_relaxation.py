@@ -53,6 +53,8 @@ def test_the_factor_is_bounded_and_restarts_with_another_map():
         y.destroy()
         y = x
     assert relaxation.factors == [1.0, RELAXATION_BOUNDS[1], 1.0]
+    # one pass moved; the restart keeps the attempt's mark (the loop's trend)
+    assert relaxation.relaxed_passes == 1 and relaxation.started and not relaxation.waiting
     y.destroy()
     relaxation.destroy()
 

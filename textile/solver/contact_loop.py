@@ -226,9 +226,8 @@ class ContactLoop:
                     if origin is None or not changed or not np.isfinite(change):
                         relaxation.restart()
                     elif relaxation.relax(origin, m.x, result.capped) != 1.0:
-                        if not relaxation.started:
+                        if relaxation.relaxed_passes == 1:
                             settled_changes = []  # the relaxed loop's trend from here
-                        relaxation.started = True
                         # the effects again, at the relaxed state (not a
                         # converged one: a plain pass must follow before the end)
                         m.apply_constraints(m.x)

@@ -52,8 +52,13 @@ class AitkenRelaxation:
         self._capped: bool | None = None
         #: every relaxation factor applied in the attempt (1 included)
         self.factors: list[float] = []
-        #: has a pass of the attempt been relaxed (the contact loop's mark)?
-        self.started = False
+        #: how many of the attempt's passes were moved (a factor other than 1)
+        self.relaxed_passes = 0
+
+    @property
+    def started(self) -> bool:
+        """Has a pass of the attempt been relaxed (restarts keep it)?"""
+        return self.relaxed_passes > 0
 
     @property
     def waiting(self) -> bool:
@@ -89,6 +94,7 @@ class AitkenRelaxation:
         self._last, self._factor, self._capped = motion, w, capped
         if w != 1.0:
             x.axpy(w - 1.0, motion)   # x = origin + w * motion
+            self.relaxed_passes += 1
         self.factors.append(w)
         return w
 
