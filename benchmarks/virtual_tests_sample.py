@@ -22,7 +22,7 @@ later keeps what it did; tests not run again keep their earlier entry).
 
     mpirun -n 2 .venv/bin/python benchmarks/virtual_tests_sample.py
         [--tests shear bending twisting] [--steps-shear 30] [--steps-rotation 15]
-        [--fibres 7 --packing hexagonal] [--free-length 2]
+        [--fibres 7 --packing hexagonal] [--free-length 2] [--checkpoint | --resume]
         [--solver '{"low_rank_tolerance": 1e-8, "branch_switching": false,
                     "describe_instability": true}']
 
@@ -110,10 +110,16 @@ def sample_suffix(fibres: int, packing: str, yarns: int = 6) -> str:
     return suffix + (f"_{yarns}x{yarns}" if yarns != 6 else "")
 
 
-def run_test(name: str, fabric, woven: str, steps: int, args, comm, progress) -> dict:
+def run_test(name: str, fabric, woven: str, steps: int, args, comm, progress,
+             earlier_rows: list | None = None) -> dict:
+    """One test; ``earlier_rows``: the per-step rows of the run a
+    ``--resume`` goes on from."""
     L = fabric.spacing[0]
+    suffix = sample_suffix(args.fibres, args.packing, args.yarns)
+    checkpoint = os.path.join(OUT, f"virtual_tests_sample{suffix}_{name}_checkpoint") \
+        if args.checkpoint or args.resume else None
     options = dict(steps=steps, solver_options=dict(args.solver, verbose=comm.rank == 0),
-                   comm=comm)
+                   checkpoint=checkpoint, comm=comm)
     if name == "shear":
         test = Shear(fabric, woven, args.shear * L, settle_drag=args.settle_drag, **options)
     else:
@@ -125,7 +131,7 @@ def run_test(name: str, fabric, woven: str, steps: int, args, comm, progress) ->
     # every step's figures go to the JSON at once: a long run stopped later
     # keeps what it did
     started = time.perf_counter()
-    done = []
+    done = list(earlier_rows or [])
 
     counted = {}
 
@@ -137,6 +143,9 @@ def run_test(name: str, fabric, woven: str, steps: int, args, comm, progress) ->
         now = {k: solver.counters[k] for k in STEP_COUNTERS}
         cost = {k: v - counted.get(k, 0) for k, v in now.items()}
         counted.update(now)
+        # a resumed run: rows of the stopped run from this step on were not
+        # kept in its checkpoint (stopped between the two writes)
+        done[:] = [r for r in done if r["step"] < rec.step]
         done.append(dict(step=rec.step, stage=rec.stage, load_factor=rec.load_factor,
                          newton_iterations=rec.newton_iterations, attempts=rec.attempts,
                          wall_seconds=rec.wall_time,
@@ -147,15 +156,18 @@ def run_test(name: str, fabric, woven: str, steps: int, args, comm, progress) ->
     with DetectionClock() as detection:
         t0 = time.perf_counter()
         try:
-            result = test.run()
+            result = test.run(resume=args.resume)
         except IncompleteTest as e:
             # the steps done still count (figures of that range)
             error, result = str(e), e.result
         wall = time.perf_counter() - t0
     assembly = {f"{effect} {kind}": seconds
                 for (effect, kind), seconds in sorted(model.effect_seconds.items())}
+    if result is not None:
+        wall = result.wall_seconds   # a resumed run's earlier part included
     out = dict(test=name, steps_asked=steps, unknowns=int(model.A.getSize()[0]),
                fibres=len(model.mesh.fibres), wall_seconds=wall, error=error,
+               resumed=bool(args.resume),
                paper=PAPER[name], detection_seconds=detection.seconds,
                assembly_seconds=assembly)
     if result is not None:
@@ -172,7 +184,6 @@ def run_test(name: str, fabric, woven: str, steps: int, args, comm, progress) ->
                    newton_iterations=c["newton_iterations"],
                    newton_per_step=c["newton_iterations"] / max(len(steps_out), 1))
         if comm.rank == 0:
-            suffix = sample_suffix(args.fibres, args.packing, args.yarns)
             result.write(os.path.join(OUT, f"virtual_tests_sample{suffix}_{name}"))
     return out
 
@@ -207,6 +218,11 @@ def main():
     parser.add_argument("--solver", type=json.loads,
                         default={"low_rank_tolerance": 1e-8, "branch_switching": False,
                                  "describe_instability": True})
+    parser.add_argument("--checkpoint", action="store_true",
+                        help="keep each test's state and rows after every step "
+                             "(output/virtual_tests_sample<suffix>_<test>_checkpoint.h5 / .json)")
+    parser.add_argument("--resume", action="store_true",
+                        help="go on from each test's checkpoint (an earlier --checkpoint run's)")
     args = parser.parse_args()
     comm = MPI.COMM_WORLD
     if comm.rank == 0:
@@ -225,14 +241,17 @@ def main():
     path = os.path.join(OUT, f"virtual_tests_sample{suffix}.json")
     # tests run before (another day, another invocation) stay in the file
     # unless run again; each test carries its own date and machine
-    kept = []
+    kept, unfinished = [], {}
     if comm.rank == 0 and os.path.exists(path):
         with open(path) as f:
             before = json.load(f)
         kept = [dict(dict(date=before.get("date"), machine=before.get("machine"),
                           ranks=before.get("ranks")), **t)
                 for t in before.get("tests", []) if t.get("test") not in args.tests]
-    kept = comm.bcast(kept)
+        # the rows of a stopped run that --resume goes on from
+        unfinished = {t["test"]: t.get("steps_so_far", []) for t in before.get("tests", [])
+                      if t.get("unfinished")}
+    kept, unfinished = comm.bcast((kept, unfinished))
     results = dict(woven=args.woven, tests=kept)
     for name in args.tests:
         steps = args.steps_shear if name == "shear" else args.steps_rotation
@@ -242,7 +261,8 @@ def main():
                 os.makedirs(OUT, exist_ok=True)
                 with open(path, "w") as f:
                     json.dump(dict(results, tests=_done + [partial]), f, indent=1, default=float)
-        out = run_test(name, fabric, args.woven, steps, args, comm, progress)
+        out = run_test(name, fabric, args.woven, steps, args, comm, progress,
+                       unfinished.get(name) if args.resume else None)
         out["peak_rss_mib_ranks"] = comm.gather(
             resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
         out.update(date=time.strftime("%Y-%m-%d"), machine=runtime.describe(), ranks=comm.size)

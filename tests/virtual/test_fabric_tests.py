@@ -175,6 +175,55 @@ def test_bad_input(woven):
                 comm=MPI.COMM_SELF)
     with pytest.raises(TypeError, match="Tension: output must be the path of a directory"):
         Tension(fabric(), woven, 0.01, output=3, comm=MPI.COMM_SELF)
+    with pytest.raises(TypeError, match="Shear: checkpoint must be a path stem"):
+        Shear(fabric(), woven, 1e-4, checkpoint=3, comm=MPI.COMM_SELF)
+    with pytest.raises(ValueError, match=r"run\(resume=True\) needs the checkpoint"):
+        Shear(fabric(), woven, 1e-4, comm=MPI.COMM_SELF).run(resume=True)
+
+
+class _Killed(Exception):
+    """A run stopped from outside (a session's end)."""
+
+
+def test_a_stopped_test_resumes_from_its_checkpoint(woven, tmp_path):
+    """A shear stopped after its second of four loading steps and run again
+    with resume=True ends on the curve of the run never stopped: the same
+    steps and Newton iterations in all (the earlier run's counted), the
+    same forces (measured: equal to the last bit on one rank; 1e-12 allows
+    a summation order). A checkpoint of another test, or whose state and
+    rows disagree, is refused with a message."""
+    import json
+    L = fabric().spacing[0]
+    whole = Shear(fabric(), woven, 0.1 * L, steps=4, comm=MPI.COMM_SELF).run()
+    stem = str(tmp_path / "shear_checkpoint")
+    first = Shear(fabric(), woven, 0.1 * L, steps=4, checkpoint=stem, comm=MPI.COMM_SELF)
+
+    def killed(solver, rec):
+        if rec.stage == first.name and rec.load_factor > 0.49:
+            raise _Killed
+    first.on_step = killed
+    with pytest.raises(_Killed):
+        first.run()
+    again = Shear(fabric(), woven, 0.1 * L, steps=4, checkpoint=stem, comm=MPI.COMM_SELF)
+    result = again.run(resume=True)
+    assert [s["step"] for s in result.steps] == [s["step"] for s in whole.steps]
+    assert [s["newton_iterations"] for s in result.steps] == \
+        [s["newton_iterations"] for s in whole.steps]
+    assert result.counters["newton_iterations"] == whole.counters["newton_iterations"]
+    np.testing.assert_allclose(result.curve.y, whole.curve.y, rtol=1e-12, atol=0)
+    np.testing.assert_allclose(result.curve.x, whole.curve.x, rtol=1e-12, atol=0)
+    assert result.figures == pytest.approx(whole.figures, rel=1e-10)
+    with pytest.raises(ValueError, match="checkpoint of 'shear' in 4 steps, not of 'shear' in 5"):
+        Shear(fabric(), woven, 0.1 * L, steps=5, checkpoint=stem,
+              comm=MPI.COMM_SELF).run(resume=True)
+    with open(stem + ".json") as f:
+        rows = json.load(f)
+    rows["converged_steps"] -= 1
+    with open(stem + ".json", "w") as f:
+        json.dump(rows, f)
+    with pytest.raises(ValueError, match="stopped between the two writes"):
+        Shear(fabric(), woven, 0.1 * L, steps=4, checkpoint=stem,
+              comm=MPI.COMM_SELF).run(resume=True)
 
 
 @pytest.fixture(scope="module")

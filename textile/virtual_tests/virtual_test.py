@@ -33,6 +33,7 @@ from ..fabric.fabric import Fabric
 from ..scene.loading import Stage
 from ..beam.material import Material
 from ..fabric.sample import Sample
+from ..io.state_file import load_state, save_state
 from ..solver import ConvergenceError, Solver
 from .load_curve import LoadCurve
 
@@ -180,6 +181,13 @@ class VirtualTest:
     output:
         Directory for the ParaView series, results.json and pictures of
         every step (None: nothing written during the run).
+    checkpoint:
+        None, or the path stem of a checkpoint written after every converged
+        step: ``<checkpoint>.h5`` (the state, :func:`textile.save_state`)
+        and ``<checkpoint>.json`` (the result so far: curve, steps, fibre
+        loads, counters, wall time). ``run(resume=True)`` goes on from it:
+        a run of hours stopped (a session's end, a killed process) loses at
+        most the step it was in.
     preset:
         Accuracy preset (:mod:`textile.presets`; None: "standard"): the
         contact options (under the friction default above), the matrix's
@@ -230,7 +238,8 @@ class VirtualTest:
                  composite: dict | None = None, contact=None, release_steps: int | None = None,
                  settle_drag: float = 0.0, turning_ends: bool | None = None,
                  solver_options: dict | None = None, output: str | None = None,
-                 preset: str | None = None, comm=MPI.COMM_WORLD):
+                 checkpoint: str | None = None, preset: str | None = None,
+                 comm=MPI.COMM_WORLD):
         if woven is None or not isinstance(woven, (str, os.PathLike)):
             raise TypeError(f"{type(self).__name__}: woven must be the path of a saved woven "
                             f"state (textile.save_state after a Weaving run), got {woven!r}")
@@ -240,6 +249,9 @@ class VirtualTest:
         if not (output is None or isinstance(output, (str, os.PathLike))):
             raise TypeError(f"{type(self).__name__}: output must be the path of a directory "
                             f"or None (nothing written), got {output!r}")
+        if not (checkpoint is None or isinstance(checkpoint, (str, os.PathLike))):
+            raise TypeError(f"{type(self).__name__}: checkpoint must be a path stem (for "
+                            f"<stem>.h5 and <stem>.json) or None, got {checkpoint!r}")
         preset = presets.checked(preset, type(self).__name__)
         if release_steps is None:
             release_steps = 2 if matrix is not None else 0
@@ -275,6 +287,9 @@ class VirtualTest:
         self.solver_options = presets.solver(preset, dict(verbose=False)
                                              | dict(solver_options or {}))
         self.output_dir = output
+        self.checkpoint = None if checkpoint is None else str(checkpoint)
+        #: what an earlier run resumed from the checkpoint did (counters, wall time)
+        self._earlier: dict = {}
         self.comm = comm
         self.gauge = self.sample.side_distance("x")
 
@@ -347,11 +362,16 @@ class VirtualTest:
                                  regrow_after=regrow, newton_per_pass=passes,
                                  loop_relaxation=relaxation))
 
-    def run(self) -> VirtualTestResult:
+    def run(self, resume: bool = False) -> VirtualTestResult:
         """Release (or settle), then load step by step; the result
         (collective). A step that fails even with the smallest increment
         raises :class:`IncompleteTest`, whose ``result`` holds the steps
-        done (written out like a finished test's)."""
+        done (written out like a finished test's). ``resume``: go on from
+        the ``checkpoint`` an earlier run of the same test wrote (its steps,
+        counters and wall time count in the result)."""
+        if resume and self.checkpoint is None:
+            raise ValueError(f"{type(self).__name__}.run(resume=True) needs the checkpoint "
+                             f"the earlier run wrote (checkpoint=...)")
         targets = self.drive()
         # what the side bodies leave free lets the woven state go over the
         # first stage, not at once
@@ -382,14 +402,17 @@ class VirtualTest:
             # the curve starts where the release (or settling) ends
             if rec.stage == self.name or rec.load_factor >= 1.0:
                 add_point(rec)
+            if self.checkpoint is not None:
+                self._save_checkpoint(solver, result, t0)
             if self.on_step is not None:
                 self.on_step(solver, rec)
 
         output = self.sample.output(self.output_dir) if self.output_dir else None
         solver = Solver(self.sample.model, self.solver_options, output=output, on_step=record)
+        resumed = self._load_checkpoint(solver, result) if resume else None
         t0 = time.perf_counter()
         try:
-            solver.run(stages)
+            solver.run(stages, resumed=resumed)
         except ConvergenceError as error:
             # keep what the converged steps gave, flagged as incomplete
             self._finish(result, solver, t0)
@@ -402,10 +425,70 @@ class VirtualTest:
         self._finish(result, solver, t0)
         return result
 
+    # -- checkpoint -----------------------------------------------------------
+    def _so_far(self, solver: Solver, t0: float) -> tuple[float, dict]:
+        """(wall seconds, counters) of the run so far, an earlier run's
+        (resumed from its checkpoint) included."""
+        counters = dict(self._earlier.get("counters", {}))
+        for k, v in solver.counters.items():
+            counters[k] = counters.get(k, 0) + v
+        return self._earlier.get("wall_seconds", 0.0) + time.perf_counter() - t0, counters
+
+    def _save_checkpoint(self, solver: Solver, result: VirtualTestResult, t0: float) -> None:
+        """The state and the result so far (class docstring's ``checkpoint``;
+        collective). Each file is replaced whole; both carry the count of
+        converged steps, so a run killed between the two writes leaves a
+        pair that :meth:`_load_checkpoint` refuses, never a curve with a
+        step missing."""
+        save_state(self.sample.model, self.checkpoint + ".h5", solver,
+                   fibre_data={"yarn": self.sample.fabric.fibre_yarn})
+        converged = solver.position()["steps"]
+        wall, counters = self._so_far(solver, t0)
+        if self.comm.rank == 0:
+            loads = {k: np.asarray(v).tolist() for k, v in result.fibre_loads.items()}
+            tmp = self.checkpoint + ".json.tmp"
+            with open(tmp, "w") as f:
+                json.dump(dict(test=self.name, steps_asked=self.steps,
+                               converged_steps=converged,
+                               curve=dict(x=result.curve.x, y=result.curve.y),
+                               steps=result.steps, fibre_loads=loads, counters=counters,
+                               wall_seconds=wall), f, default=float)
+            os.replace(tmp, self.checkpoint + ".json")
+
+    def _load_checkpoint(self, solver: Solver, result: VirtualTestResult) -> dict:
+        """Set the model and the solver to the checkpoint's state and
+        ``result`` to its rows; returns what load_state returned (for
+        :meth:`Solver.run`'s ``resumed``). Collective."""
+        saved = None
+        if self.comm.rank == 0:
+            try:
+                with open(self.checkpoint + ".json") as f:
+                    saved = json.load(f)
+            except (OSError, ValueError) as e:
+                saved = f"{self.checkpoint}.json: {e}"
+        saved = self.comm.bcast(saved)
+        if isinstance(saved, str):
+            raise ValueError(f"{type(self).__name__}: no checkpoint to resume from: {saved}")
+        if (saved.get("test"), saved.get("steps_asked")) != (self.name, self.steps):
+            raise ValueError(f"{type(self).__name__}: {self.checkpoint}.json is a checkpoint of "
+                             f"{saved.get('test')!r} in {saved.get('steps_asked')} steps, not "
+                             f"of {self.name!r} in {self.steps}")
+        attrs = load_state(self.sample.model, self.checkpoint + ".h5", solver)
+        if int(attrs["steps"]) != saved["converged_steps"]:
+            raise ValueError(f"{type(self).__name__}: {self.checkpoint}.h5 holds the state after "
+                             f"{int(attrs['steps'])} steps, its .json the rows of "
+                             f"{saved['converged_steps']} (the run was stopped between the two "
+                             f"writes): run the test again from the start")
+        result.curve.x[:], result.curve.y[:] = saved["curve"]["x"], saved["curve"]["y"]
+        result.steps[:] = saved["steps"]
+        result.fibre_loads = {k: np.asarray(v) for k, v in saved["fibre_loads"].items()}
+        self._earlier = dict(counters=saved["counters"], wall_seconds=saved["wall_seconds"])
+        return attrs
+
     def _finish(self, result: VirtualTestResult, solver: Solver, t0: float) -> None:
-        """Wall time, counters and figures of the steps done; written out."""
-        result.wall_seconds = time.perf_counter() - t0
-        result.counters = solver.counters
+        """Wall time, counters and figures of the steps done (an earlier
+        run's, resumed from its checkpoint, included); written out."""
+        result.wall_seconds, result.counters = self._so_far(solver, t0)
         # a curve needs the released state and a loading step
         result.figures = self.summarize(result) if result.steps else {}
         if result.steps:
