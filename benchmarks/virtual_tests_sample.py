@@ -222,7 +222,9 @@ def main():
                         help="keep each test's state and rows after every step "
                              "(output/virtual_tests_sample<suffix>_<test>_checkpoint.h5 / .json)")
     parser.add_argument("--resume", action="store_true",
-                        help="go on from each test's checkpoint (an earlier --checkpoint run's)")
+                        help="go on from each test's checkpoint (an earlier --checkpoint run's; "
+                             "the steps, counters and wall time count both runs, the detection "
+                             "and assembly seconds the resumed part's only)")
     args = parser.parse_args()
     comm = MPI.COMM_WORLD
     if comm.rank == 0:
