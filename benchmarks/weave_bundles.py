@@ -10,7 +10,7 @@ lifting weave's three stages (:class:`textile.fabric.weaving.Weaving`).
 ``easy_iterations`` and an optional :class:`~textile.effects.ViscousDrag`
 fading as (1 - s)^2 over the weaving stage, the relaxation optional (where
 the ordered weave stops on bundles). Prints, and adds to
-``output/weave_bundles.json`` (with the date and arguments), how far
+``output/weave_bundles.json`` (``--output``; with the date and arguments), how far
 each case got (load factor of the stage that stopped, the error), its
 Newton iterations per step (failed
 attempts counted in the solver's counters), the crossings in pattern order,
@@ -163,6 +163,9 @@ def main():
                    help="SolverOptions for every stage, e.g. newton=standard line_search=l2")
     p.add_argument("--weaving", nargs="+", default=[], metavar="NAME=VALUE",
                    help="other Weaving arguments, e.g. settling_steps=8")
+    p.add_argument("--output", default=os.path.join(OUT, "weave_bundles.json"),
+                   help="the JSON the rows are added to (default output/weave_bundles.json; "
+                        "another for scratch runs, which then stay out of the record)")
     args = p.parse_args()
     for items, options in ((args.solver, SOLVER), (args.weaving, WEAVING)):
         for item in items:
@@ -192,7 +195,7 @@ def main():
               f"crimp {row['crimp']:.4f}, height/width {row['height_over_width']:.2f}, "
               f"{row['wall_seconds']:.1f} s{'; ' + row['error'][:120] if row['error'] else ''}",
               flush=True)
-    record(rows)
+    record(rows, args.output)
 
 
 #: solver options and other Weaving arguments given on the command line
@@ -201,13 +204,11 @@ SOLVER: dict = {}
 WEAVING: dict = {}
 
 
-def record(rows: list[dict]) -> None:
-    """Add this run's rows, with its date and arguments, to
-    output/weave_bundles.json: earlier runs are kept (runs of hours are
-    often started side by side; a lock keeps two finishing together from
-    losing one)."""
-    os.makedirs(OUT, exist_ok=True)
-    path = os.path.join(OUT, "weave_bundles.json")
+def record(rows: list[dict], path: str) -> None:
+    """Add this run's rows, with its date and arguments, to ``path``
+    (--output): earlier runs are kept (runs of hours are often started side
+    by side; a lock keeps two finishing together from losing one)."""
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
     stamp = dict(date=time.strftime("%Y-%m-%d %H:%M"), arguments=sys.argv[1:])
     with open(path + ".lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
