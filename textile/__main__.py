@@ -45,7 +45,8 @@ def parser() -> argparse.ArgumentParser:
                      help="output directory (default: [output] directory of the file)")
     run.add_argument("--resume", metavar="STATE", default=None,
                      help="go on from a state saved by an earlier run of the same scene "
-                          "([output] checkpoint: state_<stage>.h5 or state_<step>.h5)")
+                          "([output] checkpoint: state_<stage>.h5 or state_<step>.h5; a "
+                          "virtual test's checkpoint.h5)")
     return p
 
 

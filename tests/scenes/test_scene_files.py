@@ -221,6 +221,34 @@ def test_picture_frame_scene_is_the_api_test(woven_mono, tmp_path):
     assert os.path.getsize(tmp_path / "picture_frame.csv") > 0
 
 
+def test_a_virtual_test_scene_resumes_from_its_checkpoint(woven_mono, tmp_path):
+    """[output] checkpoint = "step" keeps a virtual test's state and rows
+    after every step; --resume from it goes on with that test (here from
+    its last step: the same curve and steps, nothing solved again). A
+    scene of several tests cannot be resumed, and "stage" is no virtual
+    test's checkpoint. (Resumed within the loading: tests/virtual/
+    test_fabric_tests.py, through the API.)"""
+    woven = str(woven_mono / "woven.h5")
+    sets = [*MONO, "--set", "test.angle_deg=15", "--set", "test.steps=3",
+            "--set", f"test.woven={json.dumps(woven)}"]
+    full, again = tmp_path / "full", tmp_path / "again"
+    run_cli("run", "demos/scenes/picture_frame.toml", "--output", str(full), *sets,
+            "--set", 'output.checkpoint="step"')
+    assert (full / "checkpoint.h5").exists() and (full / "checkpoint.json").exists()
+    _, out, _ = run_cli("run", "demos/scenes/picture_frame.toml", "--output", str(again),
+                        *sets, "--resume", str(full / "checkpoint.h5"))
+    assert "step " not in out   # the checkpoint was the test's end
+    a, b = (summary(d)["tests"]["picture_frame"] for d in (full, again))
+    assert a["steps"] == b["steps"] == 3
+    assert b["curve"] == a["curve"] and b["figures"] == pytest.approx(a["figures"], rel=1e-12)
+    status, _, err = run_cli("run", "demos/scenes/fabric_shear.toml", *MONO,
+                             "--resume", str(full / "checkpoint.h5"), check=False)
+    assert status == 2 and "--resume goes on with one virtual test; this scene runs 2" in err
+    data = scene_of("picture_frame.toml")
+    data["output"] = {"checkpoint": "stage"}
+    refused(tmp_path, data, "scene.toml: output.checkpoint: a virtual test keeps \"step\"")
+
+
 def test_test_table_reaches_the_sample_options(woven_mono, tmp_path):
     """test.turning_ends and test.settle_drag reach the VirtualTest (held
     end bodies on monofilaments, a drag through the settling): the shear's

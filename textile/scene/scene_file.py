@@ -662,10 +662,14 @@ def _check_output(reader, scene, kind):
                                                 "pictures": None, "checkpoint": None,
                                                 "probes": None}
     for key, kinds in (("pictures", ("weave", "fibres")), ("every", ("weave", "fibres")),
-                       ("checkpoint", ("weave", "fibres")), ("probes", ("fibres",))):
+                       ("checkpoint", ("weave", "fibres", "virtual_test")),
+                       ("probes", ("fibres",))):
         if out[key] is not None and kind not in kinds:
             reader.fail(f"output.{key}", f"not available in a {_show(kind)} scene (only "
                                          f"{', '.join(map(_show, kinds))})")
+    if kind == "virtual_test" and out["checkpoint"] == "stage":
+        reader.fail("output.checkpoint", 'a virtual test keeps "step" (its state and '
+                                         'result after every step) or "none" (the default)')
     if scene["solver"] is not None:
         from ..solver import SolverOptions
         try:
@@ -792,10 +796,11 @@ class Scene:
         comm.Barrier()
         if resume is not None:
             resume = os.path.abspath(resume)
-            if self.kind == "virtual_test":
-                raise SceneError(f"{self.file}: --resume is not available for a virtual_test "
-                                 f"scene (a virtual test runs its own solver from the woven "
-                                 f"state); resume a \"weave\" or \"fibres\" scene")
+            if self.kind == "virtual_test" and (len(self.data["test"]["runs"]) > 1
+                                                or self.data["test"]["cases"]):
+                raise SceneError(f"{self.file}: --resume goes on with one virtual test; this "
+                                 f"scene runs {len(self.data['test']['runs'])} (a scene of "
+                                 f"one test, with [output] checkpoint = \"step\", resumes)")
             if not os.path.exists(resume):
                 raise SceneError(f"{resume}: no such state file (--resume)")
         runner = {"weave": self._run_weave, "virtual_test": self._run_test,
@@ -917,10 +922,16 @@ class Scene:
                     args["displacement"] = case["displacement"]
                 if case["pin"] is not None:
                     args["pin"] = case["pin"]
+            # a checkpoint after every step ([output] checkpoint = "step"),
+            # or the one --resume goes on from (and on with)
+            if resume is not None:
+                args["checkpoint"] = resume.removesuffix(".h5")
+            elif self.data["output"]["checkpoint"] == "step":
+                args["checkpoint"] = os.path.join(args["output"], "checkpoint")
             _log.info(f"== {label}: {kind} test")
             with self._building(path):
                 runner = classes[kind](fabric, woven, **args)
-            result = runner.run()
+            result = runner.run(resume=resume is not None)
             results[label] = dict(type=kind, figures=result.figures,
                                   curve=dict(x=result.curve.x, y=result.curve.y,
                                              xlabel=result.curve.xlabel,

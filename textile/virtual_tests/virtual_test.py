@@ -33,7 +33,7 @@ from ..fabric.fabric import Fabric
 from ..scene.loading import Stage
 from ..beam.material import Material
 from ..fabric.sample import Sample
-from ..io.state_file import load_state, save_state
+from ..io.state_file import SceneMismatchError, StateFileError, load_state, save_state
 from ..solver import ConvergenceError, Solver
 from .load_curve import LoadCurve
 
@@ -458,7 +458,10 @@ class VirtualTest:
     def _load_checkpoint(self, solver: Solver, result: VirtualTestResult) -> dict:
         """Set the model and the solver to the checkpoint's state and
         ``result`` to its rows; returns what load_state returned (for
-        :meth:`Solver.run`'s ``resumed``). Collective."""
+        :meth:`Solver.run`'s ``resumed``). Collective. A missing or
+        unreadable checkpoint, or a state and rows that disagree, raise
+        StateFileError; a checkpoint of another test SceneMismatchError
+        (both ValueErrors)."""
         saved = None
         if self.comm.rank == 0:
             try:
@@ -467,18 +470,19 @@ class VirtualTest:
             except (OSError, ValueError) as e:
                 saved = f"{self.checkpoint}.json: {e}"
         saved = self.comm.bcast(saved)
+        name = type(self).__name__
         if isinstance(saved, str):
-            raise ValueError(f"{type(self).__name__}: no checkpoint to resume from: {saved}")
+            raise StateFileError(f"{name}: no checkpoint to resume from: {saved}")
         if (saved.get("test"), saved.get("steps_asked")) != (self.name, self.steps):
-            raise ValueError(f"{type(self).__name__}: {self.checkpoint}.json is a checkpoint of "
-                             f"{saved.get('test')!r} in {saved.get('steps_asked')} steps, not "
-                             f"of {self.name!r} in {self.steps}")
+            raise SceneMismatchError(f"{name}: {self.checkpoint}.json is a checkpoint of "
+                                     f"{saved.get('test')!r} in {saved.get('steps_asked')} "
+                                     f"steps, not of {self.name!r} in {self.steps}")
         attrs = load_state(self.sample.model, self.checkpoint + ".h5", solver)
         if int(attrs["steps"]) != saved["converged_steps"]:
-            raise ValueError(f"{type(self).__name__}: {self.checkpoint}.h5 holds the state after "
-                             f"{int(attrs['steps'])} steps, its .json the rows of "
-                             f"{saved['converged_steps']} (the run was stopped between the two "
-                             f"writes): run the test again from the start")
+            raise StateFileError(f"{name}: {self.checkpoint}.h5 holds the state after "
+                                 f"{int(attrs['steps'])} steps, its .json the rows of "
+                                 f"{saved['converged_steps']} (the run was stopped between "
+                                 f"the two writes): run the test again from the start")
         result.curve.x[:], result.curve.y[:] = saved["curve"]["x"], saved["curve"]["y"]
         result.steps[:] = saved["steps"]
         result.fibre_loads = {k: np.asarray(v) for k, v in saved["fibre_loads"].items()}
