@@ -259,6 +259,33 @@ def test_tension_and_bending_on_two_ranks_equal_one(woven_mpi, kind):
 
 
 @pytest.mark.mpi
+def test_a_test_stopped_on_two_ranks_resumes_from_its_checkpoint(woven_mpi, tmp_path_factory):
+    """The checkpoint on every rank (the state collective, the rows written
+    by rank 0 and read back by all): a shear stopped after its second of
+    four loading steps on all ranks and resumed ends on the run never
+    stopped (measured: equal to the last bit; 1e-12 allows a summation
+    order)."""
+    comm = MPI.COMM_WORLD
+    L = fabric().spacing[0]
+    whole = Shear(fabric(), woven_mpi, 0.1 * L, steps=4, comm=comm).run()
+    directory = str(tmp_path_factory.mktemp("checkpoint")) if comm.rank == 0 else None
+    stem = comm.bcast(directory) + "/shear_checkpoint"
+    first = Shear(fabric(), woven_mpi, 0.1 * L, steps=4, checkpoint=stem, comm=comm)
+
+    def killed(solver, rec):
+        if rec.stage == first.name and rec.load_factor > 0.49:
+            raise _Killed
+    first.on_step = killed
+    with pytest.raises(_Killed):
+        first.run()
+    result = Shear(fabric(), woven_mpi, 0.1 * L, steps=4, checkpoint=stem,
+                   comm=comm).run(resume=True)
+    assert [s["newton_iterations"] for s in result.steps] == \
+        [s["newton_iterations"] for s in whole.steps]
+    np.testing.assert_allclose(result.curve.y, whole.curve.y, rtol=1e-12, atol=0)
+
+
+@pytest.mark.mpi
 def test_ranks_share_the_crossings(woven_mpi):
     """The ranks split the fibres warp | weft here, so every crossing couples
     fibres of two ranks: each rank evaluates half of them (evaluated_here in
