@@ -236,10 +236,12 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
           solver_options: dict, comm, weaving_steps: int = 5,
           free_length: float | None = None, crossing_patch: int = 2,
           weaving_options: dict | None = None, checkpoint: bool = False,
-          resume: bool = False, keep_steps: bool = False) -> dict:
+          resume: bool = False, keep_steps: bool = False,
+          contact_options: dict | None = None) -> dict:
     fabric = sample_fabric(pattern, fibres, yarns, elements, spacing, packing, free_length)
     weaving = Weaving(fabric, steps=weaving_steps, comm=comm,
-                      contact=dict(crossing_patch=crossing_patch), **(weaving_options or {}))
+                      contact=dict(contact_options or {}, crossing_patch=crossing_patch),
+                      **(weaving_options or {}))
     model = weaving.model
     state = os.path.join(OUT, woven_name(pattern, fibres, packing, yarns))
     error = ""
@@ -275,6 +277,7 @@ def weave(pattern: str, fibres: int, yarns: int, elements: int, spacing: float, 
                 free_length=fabric.free_length / fabric.spacing[0],
                 spacing_in_widths=spacing, weaving_steps=weaving_steps,
                 crossing_patch=crossing_patch, weaving_options=weaving_options or {},
+                contact_options=contact_options or {},
                 stages=[st.name for st in weaving.stages()],
                 solver_options=solver_options, size=size, wall_seconds=wall,
                 counters=run["counters"] if run else solver.counters, steps=steps,
@@ -395,7 +398,8 @@ def side_by_side(pattern: str, fibres: int, packing: str, runs: list[dict],
 def run_key(r: dict) -> tuple:
     return (r["pattern"], r.get("fibres_per_yarn"), r.get("packing"), r.get("spacing_in_widths"),
             r.get("weaving_steps", 5), r.get("yarns", 6), r.get("crossing_patch", 2),
-            json.dumps(r.get("weaving_options", {}), sort_keys=True))
+            json.dumps(r.get("weaving_options", {}), sort_keys=True),
+            json.dumps(r.get("contact_options", {}), sort_keys=True))
 
 
 def earlier_runs(path: str, args) -> list[dict]:
@@ -407,7 +411,8 @@ def earlier_runs(path: str, args) -> list[dict]:
     with open(path) as f:
         before = json.load(f)
     now = {(p, args.fibres, args.packing, args.spacing, args.weaving_steps, args.yarns,
-            args.crossing_patch, json.dumps(args.weaving, sort_keys=True))
+            args.crossing_patch, json.dumps(args.weaving, sort_keys=True),
+            json.dumps(args.contact, sort_keys=True))
            for p in args.patterns}
     return [dict(dict(date=before.get("date"), ranks=before.get("ranks")), **r)
             for r in before.get("runs", []) if run_key(r) not in now]
@@ -437,6 +442,9 @@ def main():
     parser.add_argument("--weaving", type=json.loads, default={},
                         help='Weaving options as JSON, e.g. \'{"drag": 0.1, "lifting_drag": '
                              '0.1, "viscous_fading": true}\'')
+    parser.add_argument("--contact", type=json.loads, default={},
+                        help='the weave\'s ContactOptions as JSON, e.g. \'{"friction": 0.2}\' '
+                             '(friction between yarns; within a yarn: the yarn\'s own, 0.2)')
     parser.add_argument("--checkpoint", action="store_true",
                         help="save the state after every step (output/<state>_checkpoint.h5, "
                              "with the steps so far in a .json beside it)")
@@ -488,7 +496,7 @@ def main():
         r = weave(pattern, args.fibres, args.yarns, args.elements, args.spacing, args.packing,
                   args.solver, comm, args.weaving_steps, args.free_length,
                   args.crossing_patch, args.weaving, args.checkpoint, args.resume,
-                  args.keep_steps)
+                  args.keep_steps, args.contact)
         r.update(date=time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), ranks=comm.size,
                  machine=runtime.describe())
         runs.append(r)
