@@ -185,6 +185,24 @@ class _Killed(Exception):
     """A run stopped from outside (a session's end)."""
 
 
+def _stopped_and_resumed(woven, stem, comm):
+    """(the shear of 4 loading steps run through, the same shear stopped
+    after its second loading step with a checkpoint at ``stem`` and resumed
+    from it)."""
+    L = fabric().spacing[0]
+    whole = Shear(fabric(), woven, 0.1 * L, steps=4, comm=comm).run()
+    first = Shear(fabric(), woven, 0.1 * L, steps=4, checkpoint=stem, comm=comm)
+
+    def killed(solver, rec):
+        if rec.stage == first.name and rec.load_factor > 0.49:
+            raise _Killed
+    first.on_step = killed
+    with pytest.raises(_Killed):
+        first.run()
+    resumed = Shear(fabric(), woven, 0.1 * L, steps=4, checkpoint=stem, comm=comm)
+    return whole, resumed.run(resume=True)
+
+
 def test_a_stopped_test_resumes_from_its_checkpoint(woven, tmp_path):
     """A shear stopped after its second of four loading steps and run again
     with resume=True ends on the curve of the run never stopped: the same
@@ -194,18 +212,8 @@ def test_a_stopped_test_resumes_from_its_checkpoint(woven, tmp_path):
     rows disagree, is refused with a message."""
     import json
     L = fabric().spacing[0]
-    whole = Shear(fabric(), woven, 0.1 * L, steps=4, comm=MPI.COMM_SELF).run()
     stem = str(tmp_path / "shear_checkpoint")
-    first = Shear(fabric(), woven, 0.1 * L, steps=4, checkpoint=stem, comm=MPI.COMM_SELF)
-
-    def killed(solver, rec):
-        if rec.stage == first.name and rec.load_factor > 0.49:
-            raise _Killed
-    first.on_step = killed
-    with pytest.raises(_Killed):
-        first.run()
-    again = Shear(fabric(), woven, 0.1 * L, steps=4, checkpoint=stem, comm=MPI.COMM_SELF)
-    result = again.run(resume=True)
+    whole, result = _stopped_and_resumed(woven, stem, MPI.COMM_SELF)
     assert [s["step"] for s in result.steps] == [s["step"] for s in whole.steps]
     assert [s["newton_iterations"] for s in result.steps] == \
         [s["newton_iterations"] for s in whole.steps]
@@ -266,20 +274,9 @@ def test_a_test_stopped_on_two_ranks_resumes_from_its_checkpoint(woven_mpi, tmp_
     stopped (measured: equal to the last bit; 1e-12 allows a summation
     order)."""
     comm = MPI.COMM_WORLD
-    L = fabric().spacing[0]
-    whole = Shear(fabric(), woven_mpi, 0.1 * L, steps=4, comm=comm).run()
     directory = str(tmp_path_factory.mktemp("checkpoint")) if comm.rank == 0 else None
     stem = comm.bcast(directory) + "/shear_checkpoint"
-    first = Shear(fabric(), woven_mpi, 0.1 * L, steps=4, checkpoint=stem, comm=comm)
-
-    def killed(solver, rec):
-        if rec.stage == first.name and rec.load_factor > 0.49:
-            raise _Killed
-    first.on_step = killed
-    with pytest.raises(_Killed):
-        first.run()
-    result = Shear(fabric(), woven_mpi, 0.1 * L, steps=4, checkpoint=stem,
-                   comm=comm).run(resume=True)
+    whole, result = _stopped_and_resumed(woven_mpi, stem, comm)
     assert [s["newton_iterations"] for s in result.steps] == \
         [s["newton_iterations"] for s in whole.steps]
     np.testing.assert_allclose(result.curve.y, whole.curve.y, rtol=1e-12, atol=0)
